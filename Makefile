@@ -1,0 +1,56 @@
+# salient: the two commands a newcomer needs are `make run` and `make test`.
+#   make run            install missing Debian packages, build, start salientd (for now: the CLI)
+#   make test           install, build (Release), run the whole test suite
+#   make test-sanitize  the same suite under AddressSanitizer + UndefinedBehaviorSanitizer
+#   make fuzz           build the libFuzzer targets with clang and fuzz the mesh readers
+#   make bench          build and run the benchmarks in tests/bench
+SHELL := /bin/bash
+BUILD ?= build
+BUILD_ASAN ?= build-asan
+BUILD_FUZZ ?= build-fuzz
+JOBS ?= $(shell nproc)
+MODELS ?= $(abspath ../shared/models)
+FUZZ_SECONDS ?= 180
+CMAKE_FLAGS ?=
+
+.PHONY: deps build run test test-sanitize fuzz bench format clean
+
+deps:
+	@bash deploy/install-deps.sh
+
+$(BUILD)/build.ninja: | deps
+	cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release $(CMAKE_FLAGS)
+
+build: deps $(BUILD)/build.ninja
+	cmake --build $(BUILD) -j $(JOBS)
+
+run: build
+	@echo "salientd is not built yet (step 6); meanwhile: salient info on a shared model"
+	$(BUILD)/clients/salient info $(MODELS)/stanford-bunny.obj --up y --height 80
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+test-sanitize: deps
+	cmake -S . -B $(BUILD_ASAN) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSALIENT_SANITIZE=ON \
+	  -DSALIENT_BENCH=OFF $(CMAKE_FLAGS)
+	cmake --build $(BUILD_ASAN) -j $(JOBS)
+	cd $(BUILD_ASAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS)
+
+fuzz: deps
+	CC=clang CXX=clang++ cmake -S . -B $(BUILD_FUZZ) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DSALIENT_FUZZ=ON -DSALIENT_BENCH=OFF $(CMAKE_FLAGS)
+	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target mesh_reader_fuzz line_codec_fuzz
+	mkdir -p $(BUILD_FUZZ)/corpus/mesh && cp -n $(MODELS)/*.* $(MODELS)/invalid/* $(BUILD_FUZZ)/corpus/mesh/ 2>/dev/null || true
+	$(BUILD_FUZZ)/tests/fuzz/mesh_reader_fuzz -max_total_time=$(FUZZ_SECONDS) -max_len=65536 \
+	  -rss_limit_mb=2048 -print_final_stats=1 $(BUILD_FUZZ)/corpus/mesh
+
+bench: build
+	$(BUILD)/tests/bench/mesh_load_bench $(MODELS)/*.obj $(MODELS)/*.ply $(MODELS)/*.stl
+
+format:
+	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD) $(BUILD_ASAN) $(BUILD_FUZZ)

@@ -1,0 +1,29 @@
+// `salient`: the command-line tool over salient's core (and, later, the daemon's API).
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+
+#include "clients/cli/commands.hpp"
+#include "core/common/input_error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"salient: saliency-preserving adaptive slicing for FDM printers"};
+  app.set_version_flag("--version", std::string("salient ") + SALIENT_VERSION);
+  app.require_subcommand(1);
+  salient::cli::CommandAction action;
+  salient::cli::add_info_command(app, action);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  try {
+    return action ? action() : 0;
+  } catch (const salient::core::InputError& e) {
+    std::fprintf(stderr, "salient: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "salient: internal error: %s\n", e.what());
+    return 3;
+  }
+}

@@ -1,0 +1,35 @@
+// Command-line options shared by every command that loads and places a model.
+#pragma once
+
+#include <optional>
+#include <string>
+
+#include "core/mesh/mesh_loader.hpp"
+#include "core/mesh/placement.hpp"
+
+namespace CLI {
+class App;
+}
+
+namespace salient::cli {
+
+struct MeshOptions {
+  std::string model;
+  std::string up = "z";
+  std::optional<double> height;
+  double scale = 1.0;
+};
+
+// Adds MODEL, --up, --height and --scale to `command`.
+void add_mesh_options(CLI::App& command, MeshOptions& options);
+
+struct PlacedModel {
+  core::LoadedMesh loaded;
+  core::Placement placement;
+  core::UpAxis up = core::UpAxis::z;
+};
+
+// Loads, repairs and places the model; throws core::InputError on bad input or options.
+PlacedModel load_placed(const MeshOptions& options);
+
+}  // namespace salient::cli

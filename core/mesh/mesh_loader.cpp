@@ -1,0 +1,34 @@
+// load_mesh: read, repair, and reject meshes that nothing printable is left of.
+#include "core/mesh/mesh_loader.hpp"
+
+#include "core/common/input_error.hpp"
+
+namespace salient::core {
+namespace {
+
+LoadedMesh finish(MeshFile file, const std::string& source, const RepairOptions& options) {
+  LoadedMesh out;
+  out.format = file.format;
+  out.polygons = file.polygons;
+  out.triangles_read = file.mesh.triangle_count();
+  out.vertices_read = file.mesh.vertex_count();
+  out.mesh = std::move(file.mesh);
+  out.repair = repair_mesh(out.mesh, options);
+  if (out.mesh.triangles.empty()) {
+    throw InputError(source, {}, "no usable triangles: all " + std::to_string(out.triangles_read) +
+                                     " faces are degenerate (zero area or repeated vertices)");
+  }
+  return out;
+}
+
+}  // namespace
+
+LoadedMesh load_mesh(const std::filesystem::path& path, const RepairOptions& options) {
+  return finish(read_mesh_file(path), path.filename().string(), options);
+}
+
+LoadedMesh load_mesh(std::string_view bytes, const std::string& source, const RepairOptions& options) {
+  return finish(read_mesh(bytes, source), source, options);
+}
+
+}  // namespace salient::core

@@ -1,0 +1,26 @@
+// load_mesh: read a model file, repair it and refuse what cannot be printed.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "core/mesh/mesh_reader.hpp"
+#include "core/mesh/mesh_repair.hpp"
+
+namespace salient::core {
+
+struct LoadedMesh {
+  Mesh mesh;                // repaired
+  MeshFormat format;
+  std::size_t polygons = 0;          // faces in the file
+  std::size_t triangles_read = 0;    // after triangulation, before repair
+  std::size_t vertices_read = 0;
+  RepairReport repair;
+};
+
+// Throws InputError for unreadable files and for meshes with no usable triangle left.
+LoadedMesh load_mesh(const std::filesystem::path& path, const RepairOptions& options = {});
+LoadedMesh load_mesh(std::string_view bytes, const std::string& source, const RepairOptions& options = {});
+
+}  // namespace salient::core

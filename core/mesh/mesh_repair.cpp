@@ -1,0 +1,281 @@
+// Mesh repair. Welding uses a uniform grid of the tolerance's size (27-cell search), edge
+// topology a sort of the 3F half-edge keys, orientation a breadth-first walk across manifold
+// edges that flips a face when it runs a shared edge the same way as its neighbour.
+#include "core/mesh/mesh_repair.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <queue>
+#include <unordered_map>
+
+namespace salient::core {
+namespace {
+
+struct CellKey {
+  std::int64_t x, y, z;
+  bool operator==(const CellKey&) const = default;
+};
+struct CellHash {
+  std::size_t operator()(const CellKey& k) const {
+    std::uint64_t h = static_cast<std::uint64_t>(k.x) * 0x9E3779B97F4A7C15ull;
+    h ^= static_cast<std::uint64_t>(k.y) * 0xC2B2AE3D27D4EB4Full + (h << 6) + (h >> 2);
+    h ^= static_cast<std::uint64_t>(k.z) * 0x165667B19E3779F9ull + (h << 6) + (h >> 2);
+    return static_cast<std::size_t>(h);
+  }
+};
+
+// Maps every vertex to a representative within `tol`; returns how many were merged.
+std::size_t weld(Mesh& mesh, double tol) {
+  const std::size_t n = mesh.positions.size();
+  if (n == 0 || !(tol > 0)) return 0;
+  std::vector<std::uint32_t> rep(n);
+  std::unordered_map<CellKey, std::vector<std::uint32_t>, CellHash> grid;
+  grid.reserve(n);
+  const double inv = 1.0 / tol, tol2 = tol * tol;
+  std::size_t merged = 0;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    const Vec3& p = mesh.positions[i];
+    const CellKey c{static_cast<std::int64_t>(std::floor(p.x * inv)), static_cast<std::int64_t>(std::floor(p.y * inv)),
+                    static_cast<std::int64_t>(std::floor(p.z * inv))};
+    std::int64_t found = -1;
+    for (int dx = -1; dx <= 1 && found < 0; ++dx)
+      for (int dy = -1; dy <= 1 && found < 0; ++dy)
+        for (int dz = -1; dz <= 1 && found < 0; ++dz) {
+          auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+          if (it == grid.end()) continue;
+          for (std::uint32_t j : it->second) {
+            const Vec3 d = mesh.positions[j] - p;
+            if (dot(d, d) <= tol2) {
+              found = j;
+              break;
+            }
+          }
+        }
+    if (found >= 0) {
+      rep[i] = static_cast<std::uint32_t>(found);
+      ++merged;
+    } else {
+      rep[i] = i;
+      grid[c].push_back(i);
+    }
+  }
+  if (merged > 0)
+    for (Triangle& t : mesh.triangles)
+      for (std::uint32_t& v : t) v = rep[v];
+  return merged;
+}
+
+std::size_t remove_unused_vertices(Mesh& mesh) {
+  const std::size_t n = mesh.positions.size();
+  constexpr std::uint32_t unused = UINT32_MAX;
+  std::vector<std::uint32_t> remap(n, unused);
+  for (const Triangle& t : mesh.triangles)
+    for (std::uint32_t v : t) remap[v] = 0;
+  std::uint32_t next = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (remap[i] == unused) continue;
+    remap[i] = next;
+    mesh.positions[next] = mesh.positions[i];
+    if (mesh.has_colors()) mesh.colors[next] = mesh.colors[i];
+    if (mesh.has_quality()) mesh.quality[next] = mesh.quality[i];
+    ++next;
+  }
+  mesh.positions.resize(next);
+  if (mesh.has_colors()) mesh.colors.resize(next);
+  if (mesh.has_quality()) mesh.quality.resize(next);
+  for (Triangle& t : mesh.triangles)
+    for (std::uint32_t& v : t) v = remap[v];
+  return n - next;
+}
+
+std::size_t remove_degenerate_faces(Mesh& mesh) {
+  const double diag = bounding_box(mesh).diagonal();
+  const double min_double_area = 1e-14 * diag * diag;
+  const std::size_t before = mesh.triangles.size();
+  std::size_t out = 0;
+  for (std::size_t t = 0; t < before; ++t) {
+    const Triangle& tri = mesh.triangles[t];
+    if (tri[0] == tri[1] || tri[1] == tri[2] || tri[0] == tri[2]) continue;
+    if (!(norm(area_normal(mesh, t)) > min_double_area)) continue;
+    mesh.triangles[out++] = tri;
+  }
+  mesh.triangles.resize(out);
+  return before - out;
+}
+
+std::size_t remove_duplicate_faces(Mesh& mesh) {
+  const std::size_t n = mesh.triangles.size();
+  std::vector<std::pair<Triangle, std::uint32_t>> keyed(n);
+  for (std::uint32_t t = 0; t < n; ++t) {
+    Triangle k = mesh.triangles[t];
+    std::sort(k.begin(), k.end());
+    keyed[t] = {k, t};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::vector<bool> keep(n, true);
+  for (std::size_t i = 1; i < n; ++i)
+    if (keyed[i].first == keyed[i - 1].first) keep[keyed[i].second] = false;
+  std::size_t out = 0;
+  for (std::size_t t = 0; t < n; ++t)
+    if (keep[t]) mesh.triangles[out++] = mesh.triangles[t];
+  mesh.triangles.resize(out);
+  return n - out;
+}
+
+// One use of an undirected edge by a face; `forward` if the face runs it from lower to higher id.
+struct EdgeUse {
+  std::uint64_t key;
+  std::uint32_t face;
+  bool forward;
+  bool operator<(const EdgeUse& o) const { return key < o.key || (key == o.key && face < o.face); }
+};
+
+std::vector<EdgeUse> edge_uses(const Mesh& mesh) {
+  std::vector<EdgeUse> uses;
+  uses.reserve(mesh.triangles.size() * 3);
+  for (std::uint32_t f = 0; f < mesh.triangles.size(); ++f) {
+    const Triangle& t = mesh.triangles[f];
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+      uses.push_back({key, f, a < b});
+    }
+  }
+  std::sort(uses.begin(), uses.end());
+  return uses;
+}
+
+struct UnionFind {
+  std::vector<std::uint32_t> parent;
+  explicit UnionFind(std::size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  std::uint32_t find(std::uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(std::uint32_t a, std::uint32_t b) { parent[find(a)] = find(b); }
+};
+
+struct Neighbour {
+  std::uint32_t face;
+  bool same_direction;  // both faces run the shared edge the same way: one must flip
+};
+
+// Fills the topology fields of `report`; with `flip` non-null, also decides which faces to flip.
+void analyse(const Mesh& mesh, RepairReport& report, std::vector<bool>* flip) {
+  const std::size_t nf = mesh.triangles.size();
+  const std::vector<EdgeUse> uses = edge_uses(mesh);
+  UnionFind parts(nf);
+  std::vector<std::vector<Neighbour>> adjacent(nf);
+  std::vector<bool> on_open_edge(nf, false);
+  report.boundary_edges = report.non_manifold_edges = 0;
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    const std::size_t count = j - i;
+    if (count == 1) ++report.boundary_edges;
+    if (count > 2) ++report.non_manifold_edges;
+    if (count != 2)
+      for (std::size_t k = i; k < j; ++k) on_open_edge[uses[k].face] = true;
+    for (std::size_t k = i + 1; k < j; ++k) parts.unite(uses[i].face, uses[k].face);
+    if (count == 2 && uses[i].face != uses[i + 1].face) {
+      const bool same = uses[i].forward == uses[i + 1].forward;
+      adjacent[uses[i].face].push_back({uses[i + 1].face, same});
+      adjacent[uses[i + 1].face].push_back({uses[i].face, same});
+    }
+    i = j;
+  }
+  report.components = 0;
+  for (std::uint32_t f = 0; f < nf; ++f)
+    if (parts.find(f) == f) ++report.components;
+  report.watertight = nf > 0 && report.boundary_edges == 0 && report.non_manifold_edges == 0;
+
+  // Orientation: walk each manifold-connected patch, assigning flips that agree across edges.
+  std::vector<std::int8_t> state(nf, -1);  // -1 unvisited, else the flip bit
+  report.orientable = true;
+  std::vector<std::uint32_t> patch;
+  const Vec3 origin = bounding_box(mesh).center();
+  for (std::uint32_t seed = 0; seed < nf; ++seed) {
+    if (state[seed] >= 0) continue;
+    patch.clear();
+    std::queue<std::uint32_t> todo;
+    state[seed] = 0;
+    todo.push(seed);
+    bool closed = true;
+    while (!todo.empty()) {
+      const std::uint32_t f = todo.front();
+      todo.pop();
+      patch.push_back(f);
+      closed = closed && !on_open_edge[f];
+      for (const Neighbour& nb : adjacent[f]) {
+        const std::int8_t want = static_cast<std::int8_t>(state[f] ^ (nb.same_direction ? 1 : 0));
+        if (state[nb.face] < 0) {
+          state[nb.face] = want;
+          todo.push(nb.face);
+        } else if (state[nb.face] != want) {
+          report.orientable = false;
+        }
+      }
+    }
+    if (!flip) continue;
+    // Closed patch: face outward (positive volume). Open patch: keep the majority's orientation.
+    bool invert;
+    if (closed) {
+      double six_volume = 0;
+      for (std::uint32_t f : patch) {
+        const Triangle& t = mesh.triangles[f];
+        const Vec3 a = mesh.positions[t[0]] - origin, b = mesh.positions[t[1]] - origin,
+                   c = mesh.positions[t[2]] - origin;
+        six_volume += (state[f] ? -1.0 : 1.0) * dot(a, cross(b, c));
+      }
+      invert = six_volume < 0;
+    } else {
+      std::size_t flipped = 0;
+      for (std::uint32_t f : patch) flipped += state[f];
+      invert = 2 * flipped > patch.size();
+    }
+    for (std::uint32_t f : patch) (*flip)[f] = (state[f] != 0) != invert;
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> RepairReport::lines() const {
+  std::vector<std::string> out;
+  auto say = [&out](std::size_t n, const char* what) {
+    if (n > 0) out.push_back(std::to_string(n) + " " + what);
+  };
+  say(vertices_welded, "duplicate vertices welded");
+  say(unused_vertices_removed, "unused vertices removed");
+  say(degenerate_faces_removed, "degenerate faces removed");
+  say(duplicate_faces_removed, "duplicate faces removed");
+  say(faces_flipped, "faces flipped to a consistent orientation");
+  say(boundary_edges, "open boundary edges left (mesh is not closed)");
+  say(non_manifold_edges, "non-manifold edges left");
+  if (!orientable) out.push_back("no consistent orientation exists (non-orientable surface)");
+  return out;
+}
+
+RepairReport inspect_mesh(const Mesh& mesh) {
+  RepairReport report;
+  analyse(mesh, report, nullptr);
+  return report;
+}
+
+RepairReport repair_mesh(Mesh& mesh, const RepairOptions& options) {
+  RepairReport report;
+  report.vertices_welded = weld(mesh, options.weld_tolerance * bounding_box(mesh).diagonal());
+  report.degenerate_faces_removed = remove_degenerate_faces(mesh);
+  report.duplicate_faces_removed = remove_duplicate_faces(mesh);
+  report.unused_vertices_removed = remove_unused_vertices(mesh) - report.vertices_welded;
+  std::vector<bool> flip(mesh.triangles.size(), false);
+  analyse(mesh, report, options.fix_orientation ? &flip : nullptr);
+  for (std::size_t f = 0; f < flip.size(); ++f) {
+    if (!flip[f]) continue;
+    std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
+    ++report.faces_flipped;
+  }
+  return report;
+}
+
+}  // namespace salient::core

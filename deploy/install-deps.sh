@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# The one list of salient's system dependencies (Debian 12). Idempotent: installs only what is
+# missing; works as root and uses sudo otherwise.
+#   deploy/install-deps.sh          build + test dependencies
+#   deploy/install-deps.sh --peers  also the peer tools the benchmarks compare against
+set -euo pipefail
+
+build_packages=(
+  build-essential cmake ninja-build ccache pkg-config git
+  libboost-dev libboost-system-dev libboost-program-options-dev
+  nlohmann-json3-dev libcgal-dev libeigen3-dev libspectra-dev libpolyclipping-dev
+  libsqlite3-dev libtbb-dev libglpk-dev doctest-dev libspdlog-dev libcli11-dev
+  libtomlplusplus-dev
+  # fuzz targets (libFuzzer) and the sanitizer build
+  clang libclang-rt-14-dev
+)
+peer_packages=(prusa-slicer printrun wrk hyperfine)
+
+packages=("${build_packages[@]}")
+if [[ "${1:-}" == "--peers" ]]; then packages+=("${peer_packages[@]}"); fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "ok installed"; then
+    missing+=("$p")
+  fi
+done
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+as_root=()
+if [[ $(id -u) -ne 0 ]]; then as_root=(sudo); fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+"${as_root[@]}" apt-get update -qq
+"${as_root[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"

@@ -1,0 +1,81 @@
+// Marlin line framing (Marlin's GCodeQueue: a line starting with N must carry "*<xor>").
+#include "protocol/marlin/line_codec.hpp"
+
+#include <charconv>
+
+namespace salient::protocol::marlin {
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r' || s.back() == '\n'))
+    s.remove_suffix(1);
+  return s;
+}
+
+}  // namespace
+
+std::uint8_t checksum(std::string_view bytes) {
+  std::uint8_t x = 0;
+  for (char c : bytes) x ^= static_cast<std::uint8_t>(c);
+  return x;
+}
+
+std::string strip_comment(std::string_view line) {
+  std::string out;
+  out.reserve(line.size());
+  bool in_paren = false;
+  for (char c : line) {
+    if (in_paren) {
+      if (c == ')') in_paren = false;
+      continue;
+    }
+    if (c == ';' || c == '\n' || c == '\r') break;
+    if (c == '(') {
+      in_paren = true;
+      continue;
+    }
+    out.push_back(c);
+  }
+  return std::string(trim(out));
+}
+
+std::string frame(std::uint64_t number, std::string_view command) {
+  std::string body = "N" + std::to_string(number) + " " + std::string(command);
+  return body + "*" + std::to_string(checksum(body));
+}
+
+FramedLine parse_frame(std::string_view line, FrameError& error) {
+  error = FrameError::none;
+  line = trim(line);
+  FramedLine out;
+  if (line.empty() || line.front() != 'N') {
+    out.command = std::string(line);
+    return out;
+  }
+  const std::size_t star = line.rfind('*');
+  if (star == std::string_view::npos) {
+    error = FrameError::missing_checksum;
+    return out;
+  }
+  unsigned sum = 0;
+  const std::string_view digits = line.substr(star + 1);
+  auto [p, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), sum);
+  if (ec != std::errc() || p != digits.data() + digits.size() || sum > 255 ||
+      checksum(line.substr(0, star)) != sum) {
+    error = FrameError::bad_checksum;
+    return out;
+  }
+  std::uint64_t number = 0;
+  const char* begin = line.data() + 1;
+  auto [q, ec2] = std::from_chars(begin, line.data() + star, number);
+  if (ec2 != std::errc() || q == begin) {
+    error = FrameError::bad_number;
+    return out;
+  }
+  out.number = number;
+  out.command = std::string(trim(std::string_view(q, static_cast<std::size_t>(line.data() + star - q))));
+  return out;
+}
+
+}  // namespace salient::protocol::marlin
