@@ -58,10 +58,10 @@ void print_text(const std::string& name, const PlacedModel& m) {
   std::printf("  mesh        %zu vertices, %zu triangles, %zu part%s%s%s\n", l.mesh.vertex_count(),
               l.mesh.triangle_count(), r.components, r.components == 1 ? "" : "s",
               l.mesh.has_colors() ? ", vertex colours" : "", l.mesh.has_quality() ? ", vertex quality" : "");
-  std::printf("  size        %.3f x %.3f x %.3f mm (up %s, scale %.6g)\n", size.x, size.y, size.z,
+  std::printf("  size        %.6g x %.6g x %.6g mm (up %s, scale %.6g)\n", size.x, size.y, size.z,
               std::string(core::up_axis_name(m.up)).c_str(), m.placement.scale);
-  std::printf("  volume      %.3f mm3\n", core::signed_volume(l.mesh));
-  std::printf("  area        %.3f mm2\n", core::surface_area(l.mesh));
+  std::printf("  volume      %.6g mm3\n", core::signed_volume(l.mesh));
+  std::printf("  area        %.6g mm2\n", core::surface_area(l.mesh));
   std::printf("  watertight  %s\n", r.watertight ? "yes" : "no");
   const auto notes = r.lines();
   if (notes.empty()) std::printf("  repairs     none needed\n");

@@ -12,6 +12,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   salient::cli::CommandAction action;
   salient::cli::add_info_command(app, action);
+  salient::cli::add_plan_command(app, action);
+  salient::cli::add_compare_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

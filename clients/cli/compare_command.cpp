@@ -1,0 +1,58 @@
+// `salient compare MODEL`: the paper's Table 1 for one model, every planner side by side.
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "clients/cli/commands.hpp"
+#include "clients/cli/plan_options.hpp"
+#include "core/slicing/comparison.hpp"
+
+namespace salient::cli {
+
+void add_compare_command(CLI::App& app, CommandAction& action) {
+  auto o = std::make_shared<PlanOptions>();
+  CLI::App* cmd = app.add_subcommand("compare", "Compare every planner on one model (the paper's Table 1)");
+  add_plan_options(*cmd, *o);
+  cmd->callback([o, &action] {
+    action = [o] {
+      const auto setup = prepare(*o);
+      const core::PlanRequest base = setup->request({});
+      const core::Comparison c = core::compare_planners(base, setup->rho, core::planner_names());
+      const std::string name = std::filesystem::path(o->mesh.model).filename().string();
+      if (o->json) {
+        nlohmann::json rows = nlohmann::json::array();
+        for (const auto& r : c.rows)
+          rows.push_back({{"planner", r.planner},
+                          {"layers_at_count", r.layers_at_count},
+                          {"rsmd_at_count", r.rsmd_at_count},
+                          {"layers_at_rsmd", r.layers_at_rsmd},
+                          {"rsmd_at_rsmd", r.rsmd_at_rsmd},
+                          {"seconds", r.seconds},
+                          {"note", r.note}});
+        nlohmann::json trace = nlohmann::json::array();
+        for (const auto& s : c.adapslice_trace) trace.push_back({{"step", s.step}, {"layers", s.layers}, {"E", s.error}});
+        const nlohmann::json j = {{"model", name},       {"metric", o->metric},
+                                  {"saliency", o->saliency}, {"rho", c.rho},
+                                  {"epsilon", c.epsilon},   {"reference_layers", c.reference_layers},
+                                  {"reference_rsmd", c.reference_rsmd}, {"fine_layers", c.fine_layers},
+                                  {"coarse_layers", c.coarse_layers}, {"rows", rows},
+                                  {"adapslice_trace", trace}};
+        std::printf("%s\n", j.dump(2).c_str());
+        return 0;
+      }
+      std::printf("%s: %s metric, %s saliency, rho %.3g; exact needs %d layers (fine %d, coarse %d), RSMD %.4f\n",
+                  name.c_str(), o->metric.c_str(), o->saliency.c_str(), c.rho, c.reference_layers, c.fine_layers,
+                  c.coarse_layers, c.reference_rsmd);
+      std::printf("%-10s %14s %16s %9s  %s\n", "planner", "RSMD @ layers", "layers @ RSMD", "seconds", "note");
+      for (const auto& r : c.rows)
+        std::printf("%-10s %8.4f @%4d %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), r.rsmd_at_count, r.layers_at_count,
+                    r.layers_at_rsmd, r.rsmd_at_rsmd, r.seconds, r.note.c_str());
+      std::printf("adapslice trace:");
+      for (const auto& s : c.adapslice_trace) std::printf(" %s %d (E %.4g);", s.step.c_str(), s.layers, s.error);
+      std::printf("\n");
+      return 0;
+    };
+  });
+}
+
+}  // namespace salient::cli

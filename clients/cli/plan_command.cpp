@@ -1,0 +1,107 @@
+// `salient plan MODEL`: choose layer thicknesses with one planner; print, save JSON and SVG.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "clients/cli/commands.hpp"
+#include "clients/cli/plan_options.hpp"
+#include "core/common/input_error.hpp"
+#include "core/slicing/plan_svg.hpp"
+
+namespace salient::cli {
+namespace {
+
+struct PlanCommandOptions {
+  PlanOptions plan;
+  std::string output, svg;
+};
+
+nlohmann::json plan_json(const PlanningSetup& s, const std::string& planner, const core::PlanResult& r,
+                         double seconds, const core::PlanTarget& target) {
+  const core::Objective& obj = *s.objective;
+  const core::ZProfile& p = *s.profile;
+  nlohmann::json layers = nlohmann::json::array();
+  for (const core::LayerReport& l : obj.layers(r.plan))
+    layers.push_back({{"z_bottom", l.z_bottom}, {"z_top", l.z_top}, {"height", l.height}, {"saliency", l.saliency},
+                      {"cos", l.cos}, {"sm", l.sm}});
+  nlohmann::json trace = nlohmann::json::array();
+  for (const core::PlanStep& step : r.trace)
+    trace.push_back({{"step", step.step}, {"layers", step.layers}, {"E", step.error}});
+  nlohmann::json j = {
+      {"planner", planner},
+      {"metric", std::string(core::metric_name(obj.metric()))},
+      {"count", r.plan.layer_count()},
+      {"E", obj.error(r.plan)},
+      {"epsilon", target.epsilon ? nlohmann::json(*target.epsilon) : nlohmann::json(nullptr)},
+      {"rho", target.epsilon ? nlohmann::json(s.rho) : nlohmann::json(nullptr)},
+      {"requested_layers", target.layers ? nlohmann::json(*target.layers) : nlohmann::json(nullptr)},
+      {"rsmd", obj.rsmd(r.plan)},
+      {"seconds", seconds},
+      {"height", p.height()},
+      {"grid", p.grid()},
+      {"min_layer", p.params().min_layer},
+      {"max_layer", p.params().max_layer},
+      {"fine_layers", p.most_layers()},
+      {"coarse_layers", p.fewest_layers()},
+      {"saving_vs_fine", 1.0 - static_cast<double>(r.plan.layer_count()) / p.most_layers()},
+      {"layers", layers},
+  };
+  if (!r.note.empty()) j["note"] = r.note;
+  if (!trace.empty()) j["trace"] = trace;
+  return j;
+}
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw core::InputError(path, {}, "cannot write");
+}
+
+}  // namespace
+
+void add_plan_command(CLI::App& app, CommandAction& action) {
+  auto o = std::make_shared<PlanCommandOptions>();
+  CLI::App* cmd = app.add_subcommand("plan", "Choose layer thicknesses for a model");
+  add_plan_options(*cmd, o->plan);
+  cmd->add_option("--planner", o->plan.planner, "Planner: exact, adapslice, hms, uniform, cusp, stepwise, ha13, ceo, random, fine, coarse")
+      ->capture_default_str();
+  cmd->add_option("-o,--output", o->output, "Write the plan as JSON to this file");
+  cmd->add_option("--svg", o->svg, "Write a plot of the plan (thickness and saliency against height)");
+  cmd->callback([o, &action] {
+    action = [o] {
+      const auto planner = core::make_planner(o->plan.planner);
+      if (!planner) throw core::InputError("--planner", {}, "unknown planner '" + o->plan.planner + "'");
+      const auto setup = prepare(o->plan);
+      const core::PlanTarget target = target_of(o->plan, *setup);
+      const auto t0 = std::chrono::steady_clock::now();
+      const core::PlanResult result = planner->plan(setup->request(target));
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const nlohmann::json j = plan_json(*setup, o->plan.planner, result, seconds, target);
+      if (!o->output.empty()) write_file(o->output, j.dump(2) + "\n");
+      const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
+      if (!o->svg.empty())
+        write_file(o->svg, core::plan_svg(*setup->objective, result.plan, name + " — " + o->plan.planner + ", " +
+                                                                              std::to_string(result.plan.layer_count()) + " layers"));
+      if (o->plan.json) {
+        std::printf("%s\n", j.dump(2).c_str());
+        return 0;
+      }
+      const core::ZProfile& p = *setup->profile;
+      std::printf("%s: %s planner, %s metric, %s saliency\n", name.c_str(), o->plan.planner.c_str(), o->plan.metric.c_str(),
+                  o->plan.saliency.c_str());
+      std::printf("  layers   %d (fine %d, coarse %d): %.1f%% fewer than fine\n", result.plan.layer_count(),
+                  p.most_layers(), p.fewest_layers(), 100.0 * (1 - double(result.plan.layer_count()) / p.most_layers()));
+      std::printf("  E        %.6g", setup->objective->error(result.plan));
+      if (target.epsilon) std::printf(" (epsilon %.6g = %.3g x E(coarse))", *target.epsilon, setup->rho);
+      std::printf("\n  RSMD     %.6g\n  time     %.3f s\n", setup->objective->rsmd(result.plan), seconds);
+      if (!result.note.empty()) std::printf("  note     %s\n", result.note.c_str());
+      for (const core::PlanStep& s : result.trace)
+        std::printf("  step     %-10s %4d layers  E %.6g\n", s.step.c_str(), s.layers, s.error);
+      return 0;
+    };
+  });
+}
+
+}  // namespace salient::cli

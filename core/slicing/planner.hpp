@@ -1,0 +1,62 @@
+// Planner: one interface over every way of choosing layer thicknesses, selectable by name.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/common/progress.hpp"
+#include "core/mesh/mesh.hpp"
+#include "core/slicing/layer_plan.hpp"
+#include "core/slicing/objective.hpp"
+
+namespace salient::core {
+
+// What a plan must achieve: at most `epsilon` loss (E ≤ ε) with the fewest layers, or exactly
+// `layers` layers with the least loss. Each planner searches its own parameter for it.
+struct PlanTarget {
+  std::optional<double> epsilon;
+  std::optional<int> layers;
+
+  static PlanTarget within(double eps) { return {eps, std::nullopt}; }
+  static PlanTarget count(int n) { return {std::nullopt, n}; }
+};
+
+struct PlanRequest {
+  const Objective& objective;            // the metric plans are judged by
+  const Mesh* mesh = nullptr;            // the placed mesh (for `ha13`, which cuts sections)
+  const Objective* geometric = nullptr;  // the same metric with saliency ≡ 1 (for `ceo`)
+  PlanTarget target;
+  std::uint64_t seed = 1;                // for `random`
+  RunContext run;
+};
+
+// One step of an iterative planner (the paper's Fig. 10).
+struct PlanStep {
+  std::string step;
+  int layers;
+  double error;
+};
+
+struct PlanResult {
+  LayerPlan plan;
+  std::string note;              // e.g. why the requested count could not be reached
+  std::vector<PlanStep> trace;   // adapslice's steps
+};
+
+class Planner {
+ public:
+  virtual ~Planner() = default;
+  virtual std::string_view name() const = 0;
+  virtual PlanResult plan(const PlanRequest& request) const = 0;
+};
+
+// Every planner's name, in the order `compare` lists them.
+const std::vector<std::string_view>& planner_names();
+// nullptr for an unknown name.
+std::unique_ptr<Planner> make_planner(std::string_view name);
+
+}  // namespace salient::core
