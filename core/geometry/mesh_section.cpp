@@ -13,7 +13,7 @@ namespace salient::core {
 namespace {
 
 struct Segment {
-  Point2 start;
+  Point2 start, end;
   std::uint64_t start_edge, end_edge;
 };
 
@@ -40,6 +40,7 @@ bool face_segment(const Mesh& mesh, const Triangle& t, double z, Segment& seg) {
       seg.start_edge = edge_key(a, b);
       have_start = true;
     } else if (!ua && ub) {
+      seg.end = crossing(mesh.positions[a], mesh.positions[b], z);
       seg.end_edge = edge_key(a, b);
       have_end = true;
     }
@@ -106,7 +107,10 @@ Section chain(const std::vector<Segment>& segs, const SectionOptions& options) {
       used[i] = true;
       push_point(ring, segs[i].start);
       auto it = by_start.find(segs[i].end_edge);
-      if (it == by_start.end()) break;
+      if (it == by_start.end()) {
+        push_point(ring, segs[i].end);  // an open chain keeps its last point
+        break;
+      }
       if (it->second == first) {
         closed = true;
         break;

@@ -33,9 +33,10 @@ MergeSequence::MergeSequence(const LayerPlan& start, int max_width, const Cost& 
   std::priority_queue<Candidate, std::vector<Candidate>, std::greater<>> queue;
   auto push = [&](int i) {
     if (i <= 0 || i >= n - 1) return;
+    ++stamp[i];  // whatever was queued for i before is stale now
     const int a = b[prev[i]], m = b[i], c = b[next[i]];
     if (c - a > max_width) return;  // widths only grow: this merge never becomes valid
-    queue.push({order(a, m, c), i, ++stamp[i]});
+    queue.push({order(a, m, c), i, stamp[i]});
   };
   for (int i = 1; i < n - 1; ++i) push(i);
   double total = 0;

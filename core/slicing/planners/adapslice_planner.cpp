@@ -122,6 +122,8 @@ Run adapslice(const Objective& obj, double eps, const RunContext& run) {
   const MergeSequence seq(fine_plan(p), p.max_cells(), loss, loss, run);
   LayerPlan current = seq.at(seq.fewest_within(eps - obj.error(seq.at(seq.most()))));
   record("init", current);
+  current = visual_opt(obj, current);  // re-place the initial boundaries before any removal
+  record("VisualOpt", current);
   out.plan = current;
   for (int round = 0; round < max_rounds; ++round) {
     run.check();

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <vector>
 
 #include "core/slicing/planners/planners.hpp"
 
@@ -53,16 +54,34 @@ PlanResult search_parameter(const PlanRequest& request, double lo, double hi,
         result.plan = std::move(p);
       }
     };
-    consider(plan(lo));
-    consider(plan(hi));
-    for (int it = 0; it < iterations && best_gap > 0; ++it) {
+    // A scan first: the count need not fall monotonically with the parameter (adapslice's does
+    // not), so bisect inside the bracket whose ends come closest to the target.
+    constexpr int scan = 16;
+    std::vector<double> ps(scan + 1);
+    std::vector<int> counts(scan + 1);
+    for (int s = 0; s <= scan; ++s) {
       request.run.check();
-      const double mid = 0.5 * (lo + hi);
-      LayerPlan p = plan(mid);
-      const int count = p.layer_count();
+      ps[s] = lo + (hi - lo) * s / scan;
+      LayerPlan p = plan(ps[s]);
+      counts[s] = p.layer_count();
       consider(std::move(p));
-      if (count > want) lo = mid;
-      else hi = mid;
+    }
+    int bracket = -1;
+    for (int s = 0; s < scan && bracket < 0; ++s)
+      if ((counts[s] - want) * (counts[s + 1] - want) <= 0) bracket = s;
+    if (bracket >= 0) {
+      lo = ps[bracket];
+      hi = ps[bracket + 1];
+      const bool falling = counts[bracket] >= counts[bracket + 1];
+      for (int it = 0; it < iterations && best_gap > 0; ++it) {
+        request.run.check();
+        const double mid = 0.5 * (lo + hi);
+        LayerPlan p = plan(mid);
+        const int count = p.layer_count();
+        consider(std::move(p));
+        if ((count > want) == falling) lo = mid;
+        else hi = mid;
+      }
     }
     if (best_gap > 0 && result.note.empty())
       result.note = "no parameter gives exactly " + std::to_string(want) + " layers; nearest is " +
