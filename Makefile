@@ -47,7 +47,7 @@ fuzz: deps
 	  -rss_limit_mb=2048 -print_final_stats=1 $(BUILD_FUZZ)/corpus/mesh
 
 bench: build
-	$(BUILD)/tests/bench/mesh_load_bench $(MODELS)/*.obj $(MODELS)/*.ply $(MODELS)/*.stl
+	bash tests/bench/run_benchmarks.sh $(BUILD)
 
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

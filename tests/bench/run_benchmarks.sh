@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Runs every benchmark and the peer comparisons in one go; prints the figures BENCHMARKS.md
+# records. Usage: tests/bench/run_benchmarks.sh [BUILD_DIR] (after `make build`; peers need
+# `deploy/install-deps.sh --peers`).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=${1:-build}
+models=$(cd ../shared/models && pwd)
+echo "== machine: $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
+echo "== mesh loading (parse; parse + repair), median of 7"
+"$build/tests/bench/mesh_load_bench" "$models"/stanford-bunny.obj "$models"/igea.ply "$models"/fandisk.obj \
+  "$models"/spot.obj "$models"/Spider_binary.stl
+echo "== planners (area metric)"
+"$build/tests/bench/planner_bench" "$models"/stanford-bunny.obj:y "$models"/spot.obj:y "$models"/fandisk.obj:y \
+  "$models"/igea.ply:z
+echo "== planners (paper metric)"
+"$build/tests/bench/planner_bench" --metric paper "$models"/stanford-bunny.obj:y "$models"/igea.ply:z
+if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
+  echo "== peer: model info, salient vs PrusaSlicer (whole process, hyperfine)"
+  for m in stanford-bunny.obj fandisk.obj Spider_binary.stl; do
+    md=$(mktemp)
+    hyperfine -N -i --warmup 2 --runs 10 --export-markdown "$md" \
+      "$build/clients/salient info $models/$m" "prusa-slicer --info $models/$m" >/dev/null 2>&1
+    cat "$md"
+    rm -f "$md"
+  done
+else
+  echo "== peer comparison skipped: install with deploy/install-deps.sh --peers"
+fi
