@@ -10,7 +10,7 @@ build_packages=(
   libboost-dev libboost-system-dev libboost-program-options-dev
   nlohmann-json3-dev libcgal-dev libeigen3-dev libspectra-dev libpolyclipping-dev
   libsqlite3-dev libtbb-dev libglpk-dev doctest-dev libspdlog-dev libcli11-dev
-  libtomlplusplus-dev
+  libtomlplusplus-dev zlib1g-dev libpng-dev
   # fuzz targets (libFuzzer) and the sanitizer build
   clang libclang-rt-14-dev
 )

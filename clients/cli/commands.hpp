@@ -15,5 +15,6 @@ using CommandAction = std::function<int()>;
 void add_info_command(CLI::App& app, CommandAction& action);
 void add_plan_command(CLI::App& app, CommandAction& action);
 void add_compare_command(CLI::App& app, CommandAction& action);
+void add_saliency_command(CLI::App& app, CommandAction& action);
 
 }  // namespace salient::cli

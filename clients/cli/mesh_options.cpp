@@ -4,6 +4,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/common/input_error.hpp"
+#include "core/saliency/saliency.hpp"
 
 namespace salient::cli {
 
@@ -16,12 +17,18 @@ void add_mesh_options(CLI::App& command, MeshOptions& options) {
   command.add_option("--scale", options.scale, "Scale the model by this factor")->capture_default_str();
 }
 
-PlacedModel load_placed(const MeshOptions& options) {
+PlacedModel load_placed(const MeshOptions& options, const std::string& values_file) {
   PlacedModel out;
   const auto up = core::parse_up_axis(options.up);
   if (!up) throw core::InputError("--up", {}, "expected x, y or z, got '" + options.up + "'");
   out.up = *up;
-  out.loaded = core::load_mesh(options.model);
+  if (values_file.empty()) {
+    out.loaded = core::load_mesh(options.model);
+  } else {
+    core::MeshFile file = core::read_mesh_file(options.model);
+    file.mesh.quality = core::read_vertex_values(values_file, file.mesh.vertex_count());
+    out.loaded = core::repair_loaded(std::move(file), std::filesystem::path(options.model).filename().string());
+  }
   core::PlacementOptions placement;
   placement.up = *up;
   placement.target_height = options.height;

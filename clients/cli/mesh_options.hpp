@@ -30,6 +30,8 @@ struct PlacedModel {
 };
 
 // Loads, repairs and places the model; throws core::InputError on bad input or options.
-PlacedModel load_placed(const MeshOptions& options);
+// A `values_file` (one value per vertex of the file, as read) becomes the vertex quality before
+// repair, so it follows welding and compaction.
+PlacedModel load_placed(const MeshOptions& options, const std::string& values_file = {});
 
 }  // namespace salient::cli

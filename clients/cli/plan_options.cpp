@@ -22,9 +22,12 @@ void add_plan_options(CLI::App& cmd, PlanOptions& o) {
   cmd.add_option("--metric", o.metric, "Quality metric: area (ours) or paper (eq. 1)")
       ->check(CLI::IsMember({"area", "paper"}))
       ->capture_default_str();
-  cmd.add_option("--saliency", o.saliency, "Saliency: uniform or painted (vertex quality/colour)")
-      ->check(CLI::IsMember({"uniform", "painted"}))
+  cmd.add_option("--saliency", o.saliency,
+                 "Saliency: spectral (the paper's), lee05, painted (vertex quality/colour) or uniform")
+      ->check(CLI::IsMember({"spectral", "lee05", "painted", "uniform"}))
       ->capture_default_str();
+  cmd.add_option("--saliency-file", o.saliency_file,
+                 "Per-vertex saliency, one value per line in the model file's vertex order (implies painted)");
   cmd.add_option("--seed", o.seed, "Seed for the random planner")->capture_default_str();
   cmd.add_flag("--json", o.json, "Print JSON instead of text");
 }
@@ -43,11 +46,12 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o) {
   core::validate(params);  // before loading: a bad option should not wait for a big model
   const auto metric = core::parse_metric(o.metric);
   if (!metric) throw core::InputError("--metric", {}, "expected area or paper, got '" + o.metric + "'");
-  const auto method = core::parse_saliency_method(o.saliency);
-  if (!method) throw core::InputError("--saliency", {}, "expected uniform or painted, got '" + o.saliency + "'");
+  auto method = core::parse_saliency_method(o.saliency);
+  if (!method) throw core::InputError("--saliency", {}, "expected spectral, lee05, painted or uniform, got '" + o.saliency + "'");
+  if (!o.saliency_file.empty()) method = core::SaliencyMethod::painted;
 
   auto s = std::make_unique<PlanningSetup>();
-  s->model = load_placed(o.mesh);
+  s->model = load_placed(o.mesh, o.saliency_file);
   const std::string name = std::filesystem::path(o.mesh.model).filename().string();
   s->saliency = core::compute_saliency(s->model.loaded.mesh, *method, name);
   s->profile = std::make_unique<core::ZProfile>(core::ZProfile::build(s->model.loaded.mesh, s->saliency, params));

@@ -26,6 +26,7 @@ struct PlanOptions {
   std::string metric = "area";
   std::string planner = "exact";
   std::string saliency = "uniform";
+  std::string saliency_file;
   std::uint64_t seed = 1;
   bool json = false;
 };

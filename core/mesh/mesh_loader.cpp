@@ -4,9 +4,8 @@
 #include "core/common/input_error.hpp"
 
 namespace salient::core {
-namespace {
 
-LoadedMesh finish(MeshFile file, const std::string& source, const RepairOptions& options) {
+LoadedMesh repair_loaded(MeshFile file, const std::string& source, const RepairOptions& options) {
   LoadedMesh out;
   out.format = file.format;
   out.polygons = file.polygons;
@@ -21,14 +20,12 @@ LoadedMesh finish(MeshFile file, const std::string& source, const RepairOptions&
   return out;
 }
 
-}  // namespace
-
 LoadedMesh load_mesh(const std::filesystem::path& path, const RepairOptions& options) {
-  return finish(read_mesh_file(path), path.filename().string(), options);
+  return repair_loaded(read_mesh_file(path), path.filename().string(), options);
 }
 
 LoadedMesh load_mesh(std::string_view bytes, const std::string& source, const RepairOptions& options) {
-  return finish(read_mesh(bytes, source), source, options);
+  return repair_loaded(read_mesh(bytes, source), source, options);
 }
 
 }  // namespace salient::core

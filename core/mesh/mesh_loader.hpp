@@ -22,5 +22,7 @@ struct LoadedMesh {
 // Throws InputError for unreadable files and for meshes with no usable triangle left.
 LoadedMesh load_mesh(const std::filesystem::path& path, const RepairOptions& options = {});
 LoadedMesh load_mesh(std::string_view bytes, const std::string& source, const RepairOptions& options = {});
+// The repair half of load_mesh, for a file already read (and perhaps given per-vertex values).
+LoadedMesh repair_loaded(MeshFile file, const std::string& source, const RepairOptions& options = {});
 
 }  // namespace salient::core

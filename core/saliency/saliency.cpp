@@ -2,8 +2,15 @@
 #include "core/saliency/saliency.hpp"
 
 #include <algorithm>
+#include <cmath>
+
+#include <fstream>
+#include <sstream>
 
 #include "core/common/input_error.hpp"
+#include "core/mesh/text_cursor.hpp"
+#include "core/saliency/lee05_saliency.hpp"
+#include "core/saliency/spectral_saliency.hpp"
 
 namespace salient::core {
 namespace {
@@ -19,6 +26,8 @@ std::vector<float> normalised(std::vector<float> v) {
 }  // namespace
 
 std::optional<SaliencyMethod> parse_saliency_method(std::string_view name) {
+  if (name == "spectral") return SaliencyMethod::spectral;
+  if (name == "lee05") return SaliencyMethod::lee05;
   if (name == "uniform") return SaliencyMethod::uniform;
   if (name == "painted") return SaliencyMethod::painted;
   return std::nullopt;
@@ -26,6 +35,8 @@ std::optional<SaliencyMethod> parse_saliency_method(std::string_view name) {
 
 std::string_view saliency_method_name(SaliencyMethod method) {
   switch (method) {
+    case SaliencyMethod::spectral: return "spectral";
+    case SaliencyMethod::lee05: return "lee05";
     case SaliencyMethod::uniform: return "uniform";
     case SaliencyMethod::painted: return "painted";
   }
@@ -36,6 +47,8 @@ std::vector<float> compute_saliency(const Mesh& mesh, SaliencyMethod method, con
                                     const RunContext& run) {
   run.check();
   switch (method) {
+    case SaliencyMethod::spectral: return spectral_saliency(mesh, {}, run);
+    case SaliencyMethod::lee05: return lee05_saliency(mesh, run);
     case SaliencyMethod::uniform: return std::vector<float>(mesh.vertex_count(), 1.0f);
     case SaliencyMethod::painted:
       if (mesh.has_quality()) return normalised(mesh.quality);
@@ -47,6 +60,33 @@ std::vector<float> compute_saliency(const Mesh& mesh, SaliencyMethod method, con
       throw InputError(source, {}, "--saliency painted needs vertex quality or vertex colours, and the model has neither");
   }
   return {};
+}
+
+std::vector<float> read_vertex_values(const std::filesystem::path& path, std::size_t vertex_count) {
+  const std::string name = path.filename().string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(name, {}, "cannot open for reading");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  const std::string text = buffer.str();
+  TextCursor cur(text, name);
+  std::vector<float> values;
+  values.reserve(std::min<std::size_t>(vertex_count, text.size() / 2 + 1));
+  std::string_view line;
+  while (cur.next_line(line)) {
+    LineTokens tokens(line);
+    std::string_view tok;
+    if (!tokens.next(tok) || tok.front() == '#') continue;
+    const double v = cur.parse_double(tok, "a vertex value");
+    if (!std::isfinite(v)) cur.fail("value is not a finite number");
+    if (values.size() == vertex_count)
+      cur.fail("more values than the model's " + std::to_string(vertex_count) + " vertices");
+    values.push_back(static_cast<float>(v));
+  }
+  if (values.size() != vertex_count)
+    throw InputError(name, {}, "has " + std::to_string(values.size()) + " values, the model has " +
+                                   std::to_string(vertex_count) + " vertices");
+  return values;
 }
 
 }  // namespace salient::core

@@ -1,7 +1,8 @@
-// Per-vertex saliency in [0, 1]: how much a viewer looks at each part of the surface.
-// Step 2 has the inputs that need no computation; Step 3 adds `spectral` and `lee05`.
+// Per-vertex saliency in [0, 1]: how much a viewer looks at each part of the surface
+// (ALGORITHMS.md §1): computed (`spectral`, `lee05`) or given (`painted`, `uniform`).
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -12,7 +13,7 @@
 
 namespace salient::core {
 
-enum class SaliencyMethod { uniform, painted };
+enum class SaliencyMethod { spectral, lee05, painted, uniform };
 
 std::optional<SaliencyMethod> parse_saliency_method(std::string_view name);
 std::string_view saliency_method_name(SaliencyMethod method);
@@ -22,5 +23,9 @@ std::string_view saliency_method_name(SaliencyMethod method);
 // naming `source`.
 std::vector<float> compute_saliency(const Mesh& mesh, SaliencyMethod method, const std::string& source,
                                     const RunContext& run = {});
+
+// A user's per-vertex values: one number per line ('#' comments and blank lines skipped), as
+// many as `vertex_count`. Throws InputError naming the file and line.
+std::vector<float> read_vertex_values(const std::filesystem::path& path, std::size_t vertex_count);
 
 }  // namespace salient::core

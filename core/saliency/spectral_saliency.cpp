@@ -1,0 +1,202 @@
+// spectral saliency, as ALGORITHMS.md §1 pins it down:
+//  1. simplify to a working mesh M′ of ~1,000 vertices (quadric edge collapse);
+//  2. W(i,j) = 1/‖vi − vj‖² on edges, L = D − W;
+//  3. all eigenpairs of L, ascending (Eigen's dense symmetric solver: the irregularity needs the
+//     whole spectrum, so a partial solver such as Spectra does not apply); λ0 := λ1;
+//  4. ℒ(f) = log|λf|, R(f) = |ℒ(f) − (J9 ∗ ℒ)(f)| (centred width-9 mean, replicate padding);
+//  5. S(i,j) = Σf B(i,f)·e^R(f)·B(j,f) on edges only, si = Σj∈N(i) |S(i,j)·W(i,j)|;
+//  6. five scales tj = j·ε², ε = 0.002·diagonal: s′(i,t) = |s_M(k·t)(i) − s_M(t)(i)| where M(t)
+//     Gaussian-smooths positions (variance t, radius 2.5√t) and M(k·t) uses the per-vertex
+//     factor k(i) = 1 + c·|N(i)| / Σj∈N(i)‖pi − pj‖ (c the mean edge length); summed;
+//  7. mapped to the original vertices through the closest point on M′;
+//  8. Gaussian-smoothed at t1 and scaled to [0, 1].
+// The whole method runs on a copy in a canonical frame (centroid at the origin, unit RMS
+// radius, principal axes with signs fixed by the third moment), so that a moved or scaled model
+// gives the simplifier the same coordinates (quantised to 2^-30), not ones whose rounding
+// breaks ties differently.
+// Where we differ: with W = 1/d² the raw si carry the local edge density (a short edge of the
+// simplified mesh can weigh a thousand times the rest), so the scales are compared as
+// s′(i,t) = |log s_M(k·t)(i) − log s_M(t)(i)| — a relative change, free of that density — and
+// min–max scaling (per scale, and of the result) clips at the 99th percentile first.
+#include "core/saliency/spectral_saliency.hpp"
+
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry/point_grid.hpp"
+#include "core/mesh/vertex_adjacency.hpp"
+#include "core/saliency/mesh_simplifier.hpp"
+#include "core/saliency/surface_locator.hpp"
+
+namespace salient::core {
+namespace {
+
+// Positions Gaussian-smoothed with per-vertex variance t·k(i) over Euclidean neighbours within
+// 2.5 standard deviations.
+std::vector<Vec3> smoothed(const Mesh& mesh, const PointGrid& grid, double t, const std::vector<double>& k) {
+  std::vector<Vec3> out(mesh.vertex_count());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const double var = t * k[i], radius = 2.5 * std::sqrt(var);
+    Vec3 sum{};
+    double wsum = 0;
+    grid.for_each_within(mesh.positions[i], radius, [&](std::uint32_t j, double d2) {
+      const double w = std::exp(-d2 / (2 * var));
+      sum += mesh.positions[j] * w;
+      wsum += w;
+    });
+    out[i] = wsum > 0 ? sum / wsum : mesh.positions[i];
+  }
+  return out;
+}
+
+Mesh canonical_copy(const Mesh& mesh) {
+  const std::size_t n = mesh.vertex_count();
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Vec3& p : mesh.positions) mean += Eigen::Vector3d(p.x, p.y, p.z);
+  mean /= std::max<std::size_t>(1, n);
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Vec3& p : mesh.positions) {
+    const Eigen::Vector3d d = Eigen::Vector3d(p.x, p.y, p.z) - mean;
+    cov += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Eigen::Matrix3d axes = eig.eigenvectors();
+  const double rms = std::sqrt(std::max(cov.trace() / std::max<std::size_t>(1, n), 1e-300));
+  for (int a = 0; a < 3; ++a) {
+    double third = 0;
+    for (const Vec3& p : mesh.positions) third += std::pow(axes.col(a).dot(Eigen::Vector3d(p.x, p.y, p.z) - mean), 3);
+    if (third < 0) axes.col(a) = -axes.col(a);
+  }
+  if (axes.determinant() < 0) axes.col(0) = -axes.col(0);  // stay a rotation: no mirror
+  Mesh out;
+  out.triangles = mesh.triangles;
+  out.positions.reserve(n);
+  for (const Vec3& p : mesh.positions) {
+    const Eigen::Vector3d q = axes.transpose() * (Eigen::Vector3d(p.x, p.y, p.z) - mean) / rms;
+    // Quantised to 2^-30 of the RMS radius: copies that differ only by rounding become identical.
+    constexpr double grid = 1073741824.0;
+    out.positions.push_back({std::round(q.x() * grid) / grid, std::round(q.y() * grid) / grid,
+                             std::round(q.z() * grid) / grid});
+  }
+  return out;
+}
+
+std::vector<double> scale_factors(const Mesh& mesh, const VertexAdjacency& adj) {
+  double total = 0;
+  std::size_t edges = 0;
+  for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
+    for (std::uint32_t j : adj.neighbours(i)) total += norm(mesh.positions[j] - mesh.positions[i]), ++edges;
+  const double c = edges ? total / edges : 0;
+  std::vector<double> k(mesh.vertex_count(), 1);
+  for (std::size_t i = 0; i < k.size(); ++i) {
+    double sum = 0;
+    for (std::uint32_t j : adj.neighbours(i)) sum += norm(mesh.positions[j] - mesh.positions[i]);
+    if (sum > 0) k[i] = 1 + c * static_cast<double>(adj.neighbours(i).size()) / sum;
+  }
+  return k;
+}
+
+// Scales to [0, 1] between the minimum and the 99th percentile (values above it become 1).
+std::vector<double> normalised(std::vector<double> v) {
+  if (v.empty()) return v;
+  std::vector<double> sorted = v;
+  const std::size_t p99 = (sorted.size() - 1) * 99 / 100;
+  std::nth_element(sorted.begin(), sorted.begin() + p99, sorted.end());
+  const double b = sorted[p99];
+  const double a = *std::min_element(v.begin(), v.end());
+  for (double& x : v) x = b > a ? std::min(1.0, (x - a) / (b - a)) : 0.0;
+  return v;
+}
+
+}  // namespace
+
+std::vector<double> spectral_irregularity(const Mesh& mesh) {
+  const std::size_t n = mesh.vertex_count();
+  const VertexAdjacency adj(mesh);
+  const double diag = bounding_box(mesh).diagonal();
+  const double min_d2 = 1e-24 * diag * diag;
+  auto weight = [&](std::size_t i, std::size_t j) {
+    const Vec3 d = mesh.positions[i] - mesh.positions[j];
+    return 1.0 / std::max(dot(d, d), min_d2);
+  };
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t j : adj.neighbours(i)) {
+      const double w = weight(i, j);
+      L(i, j) = -w;
+      L(i, i) += w;
+    }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(L);
+  Eigen::VectorXd lambda = eig.eigenvalues();
+  const Eigen::MatrixXd& B = eig.eigenvectors();
+  if (n > 1) lambda(0) = lambda(1);
+  std::vector<double> log_spectrum(n);
+  for (std::size_t f = 0; f < n; ++f) log_spectrum[f] = std::log(std::max(std::fabs(lambda(f)), 1e-300));
+  Eigen::VectorXd weights(n);
+  for (std::size_t f = 0; f < n; ++f) {
+    double mean = 0;
+    for (int d = -4; d <= 4; ++d)
+      mean += log_spectrum[std::clamp<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(f) + d, 0, n - 1)];
+    weights(f) = std::exp(std::fabs(log_spectrum[f] - mean / 9));
+  }
+  const Eigen::MatrixXd BR = B * weights.asDiagonal();
+  std::vector<double> s(n, 0);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::uint32_t j : adj.neighbours(i)) s[i] += std::fabs(BR.row(i).dot(B.row(j)) * weight(i, j));
+  return s;
+}
+
+std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& options, const RunContext& run) {
+  run.report("saliency", 0.0);
+  run.check();
+  const Mesh mesh = canonical_copy(input);
+  const Mesh work = simplify_mesh(mesh, options.working_vertices);
+  run.check();
+  run.report("saliency", 0.1);
+  const VertexAdjacency adj(work);
+  const std::vector<double> k = scale_factors(work, adj);
+  const std::vector<double> ones(work.vertex_count(), 1.0);
+  const double eps = 0.002 * bounding_box(work).diagonal();
+  const PointGrid grid(work.positions, 2.5 * std::sqrt(5 * 2.5) * eps);
+  // Ten meshes, M(t) and M(k·t) at five scales; their spectra are independent: in parallel.
+  std::vector<std::vector<double>> s(10);
+  tbb::parallel_for(0, 10, [&](int job) {
+    run.check();
+    const double t = (job / 2 + 1) * eps * eps;
+    Mesh m;
+    m.triangles = work.triangles;
+    m.positions = smoothed(work, grid, t, job % 2 == 0 ? ones : k);
+    s[job] = spectral_irregularity(m);
+  });
+  run.check();
+  run.report("saliency", 0.8);
+  std::vector<double> multi(work.vertex_count(), 0);
+  for (int scale = 0; scale < 5; ++scale) {
+    std::vector<double> level(work.vertex_count());
+    for (std::size_t i = 0; i < level.size(); ++i)
+      level[i] = std::fabs(std::log(s[2 * scale + 1][i] + 1e-300) - std::log(s[2 * scale][i] + 1e-300));
+    level = normalised(std::move(level));
+    for (std::size_t i = 0; i < multi.size(); ++i) multi[i] += level[i];
+  }
+  // Back to the original vertices, then one more Gaussian pass at t1 on the original surface.
+  const std::vector<double> mapped = transfer_values(work, multi, mesh);
+  const PointGrid fine_grid(mesh.positions, 2.5 * eps);
+  std::vector<double> out(mesh.vertex_count());
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    double sum = 0, wsum = 0;
+    fine_grid.for_each_within(mesh.positions[i], 2.5 * eps, [&](std::uint32_t j, double d2) {
+      const double w = std::exp(-d2 / (2 * eps * eps));
+      sum += w * mapped[j];
+      wsum += w;
+    });
+    out[i] = wsum > 0 ? sum / wsum : mapped[i];
+  }
+  out = normalised(std::move(out));
+  run.report("saliency", 1.0);
+  return std::vector<float>(out.begin(), out.end());
+}
+
+}  // namespace salient::core
