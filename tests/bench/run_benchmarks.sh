@@ -15,6 +15,18 @@ echo "== planners (area metric)"
   "$models"/igea.ply:z
 echo "== planners (paper metric)"
 "$build/tests/bench/planner_bench" --metric paper "$models"/stanford-bunny.obj:y "$models"/igea.ply:z
+echo "== saliency (median of 3; peak resident memory from /usr/bin/time)"
+for method in spectral lee05; do
+  for m in stanford-bunny.obj igea.ply; do
+    /usr/bin/time -f "   peak %M KB" "$build/tests/bench/saliency_bench" "$method" "$models/$m" 2>&1
+  done
+done
+echo "== eigen-decomposition of the working mesh's Laplacian: Eigen dense (all pairs) vs Spectra (part)"
+"$build/tests/bench/eigen_bench" "$models"/stanford-bunny.obj 500 1000 2000
+echo "== compare with spectral saliency (seconds exclude the saliency itself)"
+for m in stanford-bunny.obj:y spot.obj:y fandisk.obj:y; do
+  "$build/clients/salient" compare "$models/${m%%:*}" --up "${m##*:}" --height 80 --saliency spectral
+done
 if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
   echo "== peer: model info, salient vs PrusaSlicer (whole process, hyperfine)"
   for m in stanford-bunny.obj fandisk.obj Spider_binary.stl; do
