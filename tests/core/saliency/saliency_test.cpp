@@ -45,25 +45,7 @@ Mesh moved(Mesh m) {
 
 // A unit icosphere-like UV sphere with six sharp bumps; returns the bump tip vertices.
 Mesh bumpy_sphere(std::vector<std::uint32_t>& tips) {
-  Mesh m;
-  const int rings = 48, segs = 96;
-  m.positions.push_back({0, 0, -1});
-  for (int r = 1; r < rings; ++r)
-    for (int k = 0; k < segs; ++k) {
-      const double phi = M_PI * r / rings, th = 2 * M_PI * k / segs;
-      m.positions.push_back({std::sin(phi) * std::cos(th), std::sin(phi) * std::sin(th), -std::cos(phi)});
-    }
-  m.positions.push_back({0, 0, 1});
-  auto ring = [&](int r, int k) { return static_cast<std::uint32_t>(1 + (r - 1) * segs + (k % segs)); };
-  const auto top = static_cast<std::uint32_t>(m.positions.size() - 1);
-  for (int k = 0; k < segs; ++k) {
-    m.triangles.push_back({0, ring(1, k + 1), ring(1, k)});
-    m.triangles.push_back({top, ring(rings - 1, k), ring(rings - 1, k + 1)});
-    for (int r = 1; r + 1 < rings; ++r) {
-      m.triangles.push_back({ring(r, k), ring(r, k + 1), ring(r + 1, k + 1)});
-      m.triangles.push_back({ring(r, k), ring(r + 1, k + 1), ring(r + 1, k)});
-    }
-  }
+  Mesh m = salient::test::uv_sphere(48, 96);
   const Vec3 centres[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0.6, 0.6, 0.53}, {-0.6, -0.6, -0.53}};
   for (const Vec3& c0 : centres) {
     const Vec3 c = c0 / norm(c0);

@@ -22,26 +22,8 @@ inline core::Mesh pyramid(double s, double h) {
 // z = 0. Random enough to give irregular profiles, always a valid closed mesh.
 inline core::Mesh random_blob(std::mt19937& rng, int rings, int segments, double height) {
   std::uniform_real_distribution<double> radius(0.6, 1.4);
-  core::Mesh m;
-  m.positions.push_back({0, 0, -1});
-  for (int r = 1; r < rings; ++r) {
-    const double phi = M_PI * r / rings;
-    for (int s = 0; s < segments; ++s) {
-      const double theta = 2 * M_PI * s / segments, k = radius(rng);
-      m.positions.push_back({k * std::sin(phi) * std::cos(theta), k * std::sin(phi) * std::sin(theta), -std::cos(phi)});
-    }
-  }
-  m.positions.push_back({0, 0, 1});
-  const auto ring = [&](int r, int s) { return static_cast<std::uint32_t>(1 + (r - 1) * segments + (s % segments)); };
-  const auto top = static_cast<std::uint32_t>(m.positions.size() - 1);
-  for (int s = 0; s < segments; ++s) {
-    m.triangles.push_back({0, ring(1, s + 1), ring(1, s)});
-    m.triangles.push_back({top, ring(rings - 1, s), ring(rings - 1, s + 1)});
-    for (int r = 1; r + 1 < rings; ++r) {
-      m.triangles.push_back({ring(r, s), ring(r, s + 1), ring(r + 1, s + 1)});
-      m.triangles.push_back({ring(r, s), ring(r + 1, s + 1), ring(r + 1, s)});
-    }
-  }
+  core::Mesh m = uv_sphere(rings, segments);
+  for (auto& p : m.positions) p = p * radius(rng);
   core::repair_mesh(m);
   double zmin = 1e9, zmax = -1e9;
   for (const auto& p : m.positions) zmin = std::min(zmin, p.z), zmax = std::max(zmax, p.z);

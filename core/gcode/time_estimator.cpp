@@ -1,0 +1,204 @@
+// estimate_gcode. Each move becomes a block (length, unit direction over X Y Z E, nominal speed,
+// acceleration). The speed at a junction is the largest v with |v·u_next − v·u_prev| ≤ jerk on
+// every axis (Marlin's classic jerk), capped by both blocks' nominal speeds; a backward pass
+// caps entries by what deceleration allows, a forward pass caps exits by what acceleration
+// allows; each block then runs a trapezoid (or a triangle). Dwells and heating waits are stops.
+#include "core/gcode/time_estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/common/input_error.hpp"
+#include "core/gcode/gcode_line.hpp"
+#include "core/mesh/text_cursor.hpp"
+
+namespace salient::core {
+namespace {
+
+struct Block {
+  double length;
+  double u[4];
+  double speed, accel;
+  double entry = 0, exit = 0;  // planned speeds
+  std::size_t layer;
+};
+
+double trapezoid_time(const Block& b) {
+  const double a = b.accel, v0 = b.entry, v1 = b.exit, vc = std::max(b.speed, std::max(v0, v1));
+  const double da = (vc * vc - v0 * v0) / (2 * a), dd = (vc * vc - v1 * v1) / (2 * a);
+  if (da + dd <= b.length) return (vc - v0) / a + (vc - v1) / a + (b.length - da - dd) / vc;
+  const double peak = std::sqrt(std::max(0.0, (2 * a * b.length + v0 * v0 + v1 * v1) / 2));
+  return std::max(0.0, (peak - v0) / a) + std::max(0.0, (peak - v1) / a);
+}
+
+class Planner {
+ public:
+  Planner(MachineLimits& limits, GcodeEstimate& out) : limits_(limits), out_(out) {}
+
+  void add(Block b) {
+    if (!blocks_.empty()) {
+      const Block& p = blocks_.back();
+      double v = std::min(p.speed, b.speed);
+      for (int k = 0; k < 4; ++k) {
+        const double du = std::fabs(b.u[k] - p.u[k]);
+        if (du > 1e-12) v = std::min(v, limits_.jerk[k] / du);
+      }
+      junction_.push_back(v);
+    }
+    blocks_.push_back(b);
+  }
+
+  // Plans and times everything queued; the machine comes to rest after the last block.
+  void flush() {
+    const std::size_t n = blocks_.size();
+    if (n == 0) return;
+    auto safe = [&](const Block& b) {  // speed reachable from rest within jerk
+      double v = b.speed;
+      for (int k = 0; k < 4; ++k)
+        if (std::fabs(b.u[k]) > 1e-12) v = std::min(v, limits_.jerk[k] / std::fabs(b.u[k]));
+      return v;
+    };
+    blocks_[0].entry = safe(blocks_[0]);
+    for (std::size_t i = 1; i < n; ++i) blocks_[i].entry = junction_[i - 1];
+    blocks_[n - 1].exit = safe(blocks_[n - 1]);
+    for (std::size_t i = n; i-- > 0;) {  // backward: decelerate in time for what follows
+      Block& b = blocks_[i];
+      if (i + 1 < n) b.exit = blocks_[i + 1].entry;
+      b.entry = std::min(b.entry, std::sqrt(b.exit * b.exit + 2 * b.accel * b.length));
+    }
+    for (std::size_t i = 0; i < n; ++i) {  // forward: accelerate no faster than possible
+      Block& b = blocks_[i];
+      if (i > 0) b.entry = std::min(b.entry, blocks_[i - 1].exit);
+      b.exit = std::min(b.exit, std::sqrt(b.entry * b.entry + 2 * b.accel * b.length));
+      if (i + 1 < n) blocks_[i + 1].entry = std::min(blocks_[i + 1].entry, b.exit);
+    }
+    for (const Block& b : blocks_) add_time(b.layer, trapezoid_time(b));
+    blocks_.clear();
+    junction_.clear();
+  }
+
+  void add_time(std::size_t layer, double seconds) {
+    out_.seconds += seconds;
+    if (out_.layer_seconds.size() <= layer) out_.layer_seconds.resize(layer + 1, 0);
+    out_.layer_seconds[layer] += seconds;
+  }
+
+ private:
+  MachineLimits& limits_;
+  GcodeEstimate& out_;
+  std::vector<Block> blocks_;
+  std::vector<double> junction_;
+};
+
+}  // namespace
+
+GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, MachineLimits limits) {
+  GcodeEstimate out;
+  Planner planner(limits, out);
+  TextCursor cur(text, source);
+  double pos[4] = {0, 0, 0, 0};
+  double feed = 1500.0 / 60;  // mm/s
+  bool absolute = true, absolute_e = true, inches = false;
+  std::size_t layer = 0;
+  bool saw_layer_mark = false;
+  std::string_view line;
+  while (cur.next_line(line)) {
+    ++out.lines;
+    GcodeError error;
+    const GcodeLine g = parse_gcode_line(line, error);
+    if (error != GcodeError::none)
+      cur.fail(error == GcodeError::bad_number ? "malformed number in '" + std::string(line.substr(0, 60)) + "'"
+                                               : "not a G-code word in '" + std::string(line.substr(0, 60)) + "'");
+    if (!g.letter) {
+      if (g.comment.starts_with("LAYER_CHANGE") || g.comment.starts_with("LAYER:")) {
+        if (saw_layer_mark || out.seconds > 0) ++layer;
+        saw_layer_mark = true;
+      }
+      continue;
+    }
+    const double unit = inches ? 25.4 : 1.0;
+    if (g.letter == 'G' && (g.number == 0 || g.number == 1 || g.number == 2 || g.number == 3)) {
+      if (g.has('F')) feed = g.get('F') * unit / 60;
+      double target[4];
+      const char axes[4] = {'X', 'Y', 'Z', 'E'};
+      for (int k = 0; k < 4; ++k) {
+        const bool abs_axis = k == 3 ? absolute_e : absolute;
+        target[k] = g.has(axes[k]) ? (abs_axis ? 0 : pos[k]) + g.get(axes[k]) * unit : pos[k];
+      }
+      double d[4];
+      for (int k = 0; k < 4; ++k) d[k] = target[k] - pos[k];
+      double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+      if ((g.number == 2 || g.number == 3) && (g.has('I') || g.has('J'))) {
+        // Arc in XY about (x + I, y + J): its length, not its chord.
+        const double cx = pos[0] + g.get('I') * unit, cy = pos[1] + g.get('J') * unit;
+        const double r = std::hypot(pos[0] - cx, pos[1] - cy);
+        double a0 = std::atan2(pos[1] - cy, pos[0] - cx), a1 = std::atan2(target[1] - cy, target[0] - cx);
+        double sweep = g.number == 3 ? a1 - a0 : a0 - a1;
+        while (sweep <= 1e-12) sweep += 2 * M_PI;
+        length = std::hypot(r * sweep, d[2]);
+      }
+      out.filament_mm += d[3];  // a retraction subtracts what its unretraction adds back
+      const double span = length > 0 ? length : std::fabs(d[3]);
+      std::copy(target, target + 4, pos);
+      if (!(span > 1e-9)) continue;
+      Block b{};
+      b.length = span;
+      for (int k = 0; k < 4; ++k) b.u[k] = d[k] / span;
+      b.speed = feed;
+      const bool extruding = d[3] > 0 && length > 0;
+      b.accel = length == 0 ? limits.retract_acceleration : extruding ? limits.acceleration : limits.travel_acceleration;
+      for (int k = 0; k < 4; ++k) {
+        if (std::fabs(b.u[k]) < 1e-12) continue;
+        b.speed = std::min(b.speed, limits.max_feedrate[k] / std::fabs(b.u[k]));
+        b.accel = std::min(b.accel, limits.max_axis_acceleration[k] / std::fabs(b.u[k]));
+      }
+      b.layer = layer;
+      planner.add(b);
+      ++out.moves;
+    } else if (g.letter == 'G' && g.number == 4) {
+      planner.flush();
+      planner.add_time(layer, g.has('S') ? g.get('S') : g.get('P') / 1000);
+    } else if (g.letter == 'G' && g.number == 20) {
+      inches = true;
+    } else if (g.letter == 'G' && g.number == 21) {
+      inches = false;
+    } else if (g.letter == 'G' && g.number == 90) {
+      absolute = absolute_e = true;
+    } else if (g.letter == 'G' && g.number == 91) {
+      absolute = absolute_e = false;
+    } else if (g.letter == 'M' && g.number == 82) {
+      absolute_e = true;
+    } else if (g.letter == 'M' && g.number == 83) {
+      absolute_e = false;
+    } else if (g.letter == 'G' && g.number == 92) {
+      const char axes[4] = {'X', 'Y', 'Z', 'E'};
+      const bool any = g.has('X') || g.has('Y') || g.has('Z') || g.has('E');
+      for (int k = 0; k < 4; ++k)
+        if (g.has(axes[k]) || !any) pos[k] = g.get(axes[k]) * unit;
+    } else if (g.letter == 'G' && g.number == 28) {
+      planner.flush();
+      pos[0] = pos[1] = pos[2] = 0;
+    } else if (g.letter == 'M' && (g.number == 109 || g.number == 190 || g.number == 116 || g.number == 400)) {
+      planner.flush();
+      if (g.number != 400) ++out.heating_waits;
+    } else if (g.letter == 'M' && g.number == 204) {
+      if (g.has('S')) limits.acceleration = limits.travel_acceleration = g.get('S');
+      if (g.has('P')) limits.acceleration = g.get('P');
+      if (g.has('T')) limits.travel_acceleration = g.get('T');
+      if (g.has('R')) limits.retract_acceleration = g.get('R');
+    } else if (g.letter == 'M' && (g.number == 201 || g.number == 203 || g.number == 205)) {
+      const char axes[4] = {'X', 'Y', 'Z', 'E'};
+      for (int k = 0; k < 4; ++k) {
+        if (!g.has(axes[k]) || !(g.get(axes[k]) > 0)) continue;
+        if (g.number == 201) limits.max_axis_acceleration[k] = g.get(axes[k]);
+        if (g.number == 203) limits.max_feedrate[k] = g.get(axes[k]);
+        if (g.number == 205) limits.jerk[k] = g.get(axes[k]);
+      }
+    }
+  }
+  planner.flush();
+  if (out.layer_seconds.empty()) out.layer_seconds.push_back(0);
+  return out;
+}
+
+}  // namespace salient::core

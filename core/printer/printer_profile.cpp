@@ -1,0 +1,175 @@
+// PrinterProfile loading with toml++ (the one file that includes it). Every key is looked up
+// through a table of known keys; anything left over is an error that names it and its line.
+#include "core/printer/printer_profile.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <set>
+#include <sstream>
+#include <toml++/toml.h>
+
+#include "core/common/input_error.hpp"
+#include "core/printer/builtin_profiles.hpp"
+
+namespace salient::core {
+namespace {
+
+std::uint64_t line_of(const toml::node& node) { return node.source().begin.line; }
+
+// Reads the known keys of one table into the profile; reports unknown keys.
+class TableReader {
+ public:
+  TableReader(const toml::table& table, std::string prefix, const std::string& source)
+      : table_(table), prefix_(std::move(prefix)), source_(source) {}
+
+  void number(const char* key, double& out, bool positive = true) {
+    if (const toml::node* n = find(key)) {
+      const auto v = n->value<double>();
+      if (!v) fail(*n, key, "must be a number");
+      if (!std::isfinite(*v) || (positive && *v <= 0) || (!positive && *v < 0))
+        fail(*n, key, positive ? "must be a positive number" : "must not be negative");
+      out = *v;
+    }
+  }
+  void text(const char* key, std::string& out) {
+    if (const toml::node* n = find(key)) {
+      const auto v = n->value<std::string>();
+      if (!v) fail(*n, key, "must be a string");
+      out = *v;
+    }
+  }
+  const toml::table* table(const char* key) {
+    const toml::node* n = find(key);
+    if (!n) return nullptr;
+    if (!n->is_table()) fail(*n, key, "must be a table");
+    return n->as_table();
+  }
+  void reject_unknown() const {
+    for (const auto& [key, node] : table_)
+      if (!seen_.count(std::string(key.str())))
+        throw InputError(source_, InputLocation::at_line(line_of(node)), "unknown key '" + prefix_ + std::string(key.str()) + "'");
+  }
+  [[noreturn]] void fail(const toml::node& n, const char* key, const std::string& what) const {
+    throw InputError(source_, InputLocation::at_line(line_of(n)), "'" + prefix_ + key + "' " + what);
+  }
+
+ private:
+  const toml::node* find(const char* key) {
+    seen_.insert(key);
+    return table_.get(key);
+  }
+
+  const toml::table& table_;
+  std::string prefix_;
+  const std::string& source_;
+  std::set<std::string> seen_;
+};
+
+void read_section(TableReader& top, const char* name, const std::string& source,
+                  const std::function<void(TableReader&)>& fields) {
+  if (const toml::table* t = top.table(name)) {
+    TableReader r(*t, std::string(name) + ".", source);
+    fields(r);
+    r.reject_unknown();
+  }
+}
+
+}  // namespace
+
+std::optional<GcodeFlavor> parse_gcode_flavor(std::string_view name) {
+  if (name == "marlin") return GcodeFlavor::marlin;
+  if (name == "reprap") return GcodeFlavor::reprap;
+  if (name == "sailfish") return GcodeFlavor::sailfish;
+  return std::nullopt;
+}
+
+std::string_view gcode_flavor_name(GcodeFlavor flavor) {
+  switch (flavor) {
+    case GcodeFlavor::marlin: return "marlin";
+    case GcodeFlavor::reprap: return "reprap";
+    case GcodeFlavor::sailfish: return "sailfish";
+  }
+  return "marlin";
+}
+
+PrinterProfile parse_printer_profile(std::string_view text, const std::string& source) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    throw InputError(source, InputLocation::at_line(e.source().begin.line), std::string(e.description()));
+  }
+  PrinterProfile p;
+  p.id = std::filesystem::path(source).stem().string();
+  TableReader top(root, "", source);
+  top.text("name", p.name);
+  std::string flavor = "marlin";
+  top.text("flavor", flavor);
+  const auto parsed_flavor = parse_gcode_flavor(flavor);
+  if (!parsed_flavor) throw InputError(source, {}, "'flavor' must be marlin, reprap or sailfish, got '" + flavor + "'");
+  p.flavor = *parsed_flavor;
+  std::string origin = "corner";
+  read_section(top, "bed", source, [&](TableReader& r) {
+    r.number("width", p.bed_width);
+    r.number("depth", p.bed_depth);
+    r.number("height", p.max_height);
+    r.text("origin", origin);
+  });
+  if (origin != "corner" && origin != "center")
+    throw InputError(source, {}, "'bed.origin' must be corner or center, got '" + origin + "'");
+  p.origin_at_center = origin == "center";
+  read_section(top, "layers", source, [&](TableReader& r) {
+    r.number("min", p.min_layer);
+    r.number("max", p.max_layer);
+  });
+  read_section(top, "extruder", source, [&](TableReader& r) {
+    r.number("nozzle_diameter", p.nozzle_diameter);
+    r.number("filament_diameter", p.filament_diameter);
+    r.number("temperature", p.extruder_temperature, false);
+    r.number("retract_length", p.retract_length, false);
+    r.number("retract_speed", p.retract_speed);
+  });
+  read_section(top, "bed_heater", source, [&](TableReader& r) { r.number("temperature", p.bed_temperature, false); });
+  read_section(top, "motion", source, [&](TableReader& r) {
+    r.number("print_speed", p.print_speed);
+    r.number("first_layer_speed", p.first_layer_speed);
+    r.number("travel_speed", p.travel_speed);
+    r.number("acceleration", p.acceleration);
+    r.number("jerk", p.jerk);
+  });
+  read_section(top, "gcode", source, [&](TableReader& r) {
+    r.text("start", p.start_gcode);
+    r.text("end", p.end_gcode);
+  });
+  top.reject_unknown();
+  if (p.min_layer > p.max_layer)
+    throw InputError(source, {}, "'layers.min' (" + std::to_string(p.min_layer) + ") is greater than 'layers.max'");
+  if (p.max_layer > p.nozzle_diameter)
+    throw InputError(source, {}, "'layers.max' is thicker than the nozzle ('extruder.nozzle_diameter')");
+  if (p.name.empty()) p.name = p.id;
+  return p;
+}
+
+PrinterProfile load_printer_profile(const std::filesystem::path& path) {
+  const std::string name = path.filename().string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(name, {}, "cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse_printer_profile(text.str(), name);
+}
+
+std::vector<std::string> builtin_printer_ids() {
+  std::vector<std::string> ids;
+  for (const auto& [id, text] : builtin_profile_texts()) ids.emplace_back(id);
+  return ids;
+}
+
+std::optional<PrinterProfile> builtin_printer(std::string_view id) {
+  for (const auto& [name, text] : builtin_profile_texts())
+    if (name == id) return parse_printer_profile(text, std::string(name) + ".toml");
+  return std::nullopt;
+}
+
+}  // namespace salient::core
