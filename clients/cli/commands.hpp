@@ -2,12 +2,18 @@
 #pragma once
 
 #include <functional>
+#include <string>
+
+#include "core/printer/printer_profile.hpp"
 
 namespace CLI {
 class App;
 }
 
 namespace salient::cli {
+
+// A built-in printer id or a .toml path; throws InputError naming --printer otherwise.
+core::PrinterProfile resolve_printer(const std::string& spec);
 
 // Registers a subcommand; returns the action to run when the user chose it (exit status).
 using CommandAction = std::function<int()>;
@@ -16,5 +22,6 @@ void add_info_command(CLI::App& app, CommandAction& action);
 void add_plan_command(CLI::App& app, CommandAction& action);
 void add_compare_command(CLI::App& app, CommandAction& action);
 void add_saliency_command(CLI::App& app, CommandAction& action);
+void add_estimate_command(CLI::App& app, CommandAction& action);
 
 }  // namespace salient::cli

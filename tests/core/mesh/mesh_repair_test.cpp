@@ -67,7 +67,7 @@ TEST_CASE("flipped faces are made consistent, and an inside-out box turned outwa
   CHECK(signed_volume(inside_out) == doctest::Approx(1));
 }
 
-TEST_CASE("an open box reports its boundary; a fin reports a non-manifold edge") {
+TEST_CASE("an open box reports its boundary, a fin a non-manifold edge") {
   Mesh open = box();
   open.triangles.resize(10);  // no top
   RepairReport r = repair_mesh(open);

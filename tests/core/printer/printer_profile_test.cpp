@@ -1,0 +1,42 @@
+// Printer profiles: the shipped ones load with the paper's numbers; mistakes are named.
+#include <doctest/doctest.h>
+
+#include "core/common/input_error.hpp"
+#include "core/printer/printer_profile.hpp"
+
+using namespace salient::core;
+
+TEST_CASE("shipped profiles load, the Replicator 2X as in the paper") {
+  const auto ids = builtin_printer_ids();
+  CHECK(ids == std::vector<std::string>{"ender3", "generic-i3", "replicator2x"});
+  for (const std::string& id : ids) CHECK(builtin_printer(id).has_value());
+  const PrinterProfile r = *builtin_printer("replicator2x");
+  CHECK(r.min_layer == 0.1);
+  CHECK(r.max_layer == 0.4);
+  CHECK(r.bed_width == 225);
+  CHECK(r.bed_depth == 145);
+  CHECK(r.max_height == 150);
+  CHECK(r.flavor == GcodeFlavor::sailfish);
+  CHECK(r.origin_at_center);
+  CHECK(r.bed_center_x() == 0);
+  CHECK(r.start_gcode.find("{extruder_temperature}") != std::string::npos);
+  const PrinterProfile e = *builtin_printer("ender3");
+  CHECK(e.flavor == GcodeFlavor::marlin);
+  CHECK(e.bed_center_x() == 110);
+  CHECK_FALSE(builtin_printer("prusa-xl").has_value());
+}
+
+TEST_CASE("profile mistakes are errors naming the key and line") {
+  CHECK_THROWS_WITH_AS(parse_printer_profile("name = \"x\"\n[bed]\nwidht = 200\n", "p.toml"), "p.toml:3: unknown key 'bed.widht'",
+                       InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[bed]\nwidth = \"wide\"\n", "p.toml"), "p.toml:2: 'bed.width' must be a number",
+                       InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[layers]\nmin = -0.1\n", "p.toml"),
+                       "p.toml:2: 'layers.min' must be a positive number", InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[layers]\nmin = 0.3\nmax = 0.2\n", "p.toml"),
+                       "p.toml: 'layers.min' (0.300000) is greater than 'layers.max'", InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("flavor = \"klipper\"\n", "p.toml"),
+                       "p.toml: 'flavor' must be marlin, reprap or sailfish, got 'klipper'", InputError);
+  CHECK_THROWS_AS(parse_printer_profile("[bed\nwidth = 1\n", "p.toml"), InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("colour = 1\n", "p.toml"), "p.toml:1: unknown key 'colour'", InputError);
+}
