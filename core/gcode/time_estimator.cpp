@@ -1,6 +1,5 @@
 // estimate_gcode. Each move becomes a block (length, unit direction over X Y Z E, nominal speed,
-// acceleration). The speed at a junction is the largest v with |v·u_next − v·u_prev| ≤ jerk on
-// every axis (Marlin's classic jerk), capped by both blocks' nominal speeds; a backward pass
+// acceleration). The speed at a junction follows Marlin's classic jerk (Planner::add); a backward pass
 // caps entries by what deceleration allows, a forward pass caps exits by what acceleration
 // allows; each block then runs a trapezoid (or a triangle). Dwells and heating waits are stops.
 #include "core/gcode/time_estimator.hpp"
@@ -20,6 +19,7 @@ struct Block {
   double u[4];
   double speed, accel;
   double entry = 0, exit = 0;  // planned speeds
+  double safe = 0;             // speed it may start at from rest
   std::size_t layer;
 };
 
@@ -35,32 +35,56 @@ class Planner {
  public:
   Planner(MachineLimits& limits, GcodeEstimate& out) : limits_(limits), out_(out) {}
 
+  // Junction speed as Marlin's classic jerk computes it: both blocks scaled to the smaller
+  // nominal speed; per axis the "jerk" is the change of velocity when the axis keeps its
+  // direction, but only the larger magnitude when it reverses; over the limit the junction
+  // speed is scaled down. If both blocks could start from rest at more than that, their safe
+  // speed is used instead.
   void add(Block b) {
+    b.safe = safe_speed(b);
     if (!blocks_.empty()) {
       const Block& p = blocks_.back();
-      double v = std::min(p.speed, b.speed);
+      const bool prev_larger = p.speed > b.speed;
+      const double factor = prev_larger ? b.speed / p.speed : p.speed / b.speed;
+      double v = prev_larger ? b.speed : p.speed;
+      double scale = 1;
       for (int k = 0; k < 4; ++k) {
-        const double du = std::fabs(b.u[k] - p.u[k]);
-        if (du > 1e-12) v = std::min(v, limits_.jerk[k] / du);
+        const double v_exit = p.u[k] * p.speed * factor * scale, v_entry = b.u[k] * b.speed * scale;
+        const double jerk = v_exit > v_entry ? ((v_entry > 0 || v_exit < 0) ? v_exit - v_entry : std::max(v_exit, -v_entry))
+                                             : ((v_entry < 0 || v_exit > 0) ? v_entry - v_exit : std::max(-v_exit, v_entry));
+        if (jerk > limits_.jerk[k]) scale *= limits_.jerk[k] / jerk;
       }
+      v *= scale;
+      if (p.safe > 0.99 * v && b.safe > 0.99 * v) v = b.safe;
       junction_.push_back(v);
     }
     blocks_.push_back(b);
+  }
+
+  // The speed a block may start at from rest (or end at into rest).
+  double safe_speed(const Block& b) const {
+    double v = b.speed;
+    bool limited = false;
+    for (int k = 0; k < 4; ++k) {
+      const double axis_speed = std::fabs(b.u[k]) * b.speed;
+      if (axis_speed <= limits_.jerk[k]) continue;
+      if (!limited) {
+        v = limits_.jerk[k];
+        limited = true;
+      } else if (axis_speed * v > limits_.jerk[k] * b.speed) {
+        v = limits_.jerk[k] * b.speed / axis_speed;
+      }
+    }
+    return v;
   }
 
   // Plans and times everything queued; the machine comes to rest after the last block.
   void flush() {
     const std::size_t n = blocks_.size();
     if (n == 0) return;
-    auto safe = [&](const Block& b) {  // speed reachable from rest within jerk
-      double v = b.speed;
-      for (int k = 0; k < 4; ++k)
-        if (std::fabs(b.u[k]) > 1e-12) v = std::min(v, limits_.jerk[k] / std::fabs(b.u[k]));
-      return v;
-    };
-    blocks_[0].entry = safe(blocks_[0]);
+    blocks_[0].entry = blocks_[0].safe;
     for (std::size_t i = 1; i < n; ++i) blocks_[i].entry = junction_[i - 1];
-    blocks_[n - 1].exit = safe(blocks_[n - 1]);
+    blocks_[n - 1].exit = blocks_[n - 1].safe;
     for (std::size_t i = n; i-- > 0;) {  // backward: decelerate in time for what follows
       Block& b = blocks_[i];
       if (i + 1 < n) b.exit = blocks_[i + 1].entry;
