@@ -33,6 +33,8 @@ PlacedModel load_placed(const MeshOptions& options, const std::string& values_fi
   placement.up = *up;
   placement.target_height = options.height;
   placement.scale = options.scale;
+  placement.bed_center_x = options.bed_center_x;
+  placement.bed_center_y = options.bed_center_y;
   out.placement = core::place_mesh(out.loaded.mesh, placement);
   return out;
 }

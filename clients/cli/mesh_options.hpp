@@ -18,6 +18,7 @@ struct MeshOptions {
   std::string up = "z";
   std::optional<double> height;
   double scale = 1.0;
+  double bed_center_x = 0, bed_center_y = 0;  // set from the printer profile where there is one
 };
 
 // Adds MODEL, --up, --height and --scale to `command`.

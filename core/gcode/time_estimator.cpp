@@ -125,6 +125,7 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
   bool absolute = true, absolute_e = true, inches = false;
   std::size_t layer = 0;
   bool saw_layer_mark = false;
+  std::size_t moves_at_mark = 0;  // PrusaSlicer's and Cura's marks for the same layer count once
   std::string_view line;
   while (cur.next_line(line)) {
     ++out.lines;
@@ -135,8 +136,9 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
                                                : "not a G-code word in '" + std::string(line.substr(0, 60)) + "'");
     if (!g.letter) {
       if (g.comment.starts_with("LAYER_CHANGE") || g.comment.starts_with("LAYER:")) {
-        if (saw_layer_mark || out.seconds > 0) ++layer;
+        if ((saw_layer_mark || out.moves > 0) && out.moves > moves_at_mark) ++layer;
         saw_layer_mark = true;
+        moves_at_mark = out.moves;
       }
       continue;
     }

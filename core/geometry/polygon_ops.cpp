@@ -96,4 +96,38 @@ std::vector<ExPolygon> union_ex(const Polygons& polygons) {
   return out;
 }
 
+Polygons offset(const Polygons& polygons, double delta) {
+  ClipperLib::ClipperOffset co(3.0);
+  co.AddPaths(to_paths(polygons), ClipperLib::jtMiter, ClipperLib::etClosedPolygon);
+  ClipperLib::Paths solution;
+  co.Execute(solution, delta * scale);
+  return to_polygons(solution);
+}
+
+Polylines clip_lines(const Polylines& lines, const Polygons& region) {
+  ClipperLib::Clipper clipper;
+  for (const Polyline& line : lines) {
+    if (line.size() < 2) continue;
+    ClipperLib::Path path;
+    for (const Point2& p : line)
+      path.push_back({static_cast<ClipperLib::cInt>(std::llround(p.x * scale)), static_cast<ClipperLib::cInt>(std::llround(p.y * scale))});
+    clipper.AddPath(path, ClipperLib::ptSubject, false);
+  }
+  clipper.AddPaths(to_paths(region), ClipperLib::ptClip, true);
+  ClipperLib::PolyTree tree;
+  clipper.Execute(ClipperLib::ctIntersection, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  ClipperLib::Paths open;
+  ClipperLib::OpenPathsFromPolyTree(tree, open);
+  return to_polygons(open);
+}
+
+Polygons to_polygons(const std::vector<ExPolygon>& expolygons) {
+  Polygons out;
+  for (const ExPolygon& e : expolygons) {
+    out.push_back(e.contour);
+    out.insert(out.end(), e.holes.begin(), e.holes.end());
+  }
+  return out;
+}
+
 }  // namespace salient::core

@@ -13,9 +13,20 @@ double intersection_area(const Polygons& a, const Polygons& b);
 // Area covered by exactly one of the sets: |A| + |B| − 2|A ∩ B|, mm².
 double xor_area(const Polygons& a, const Polygons& b);
 
+// An open polyline (e.g. an infill line).
+using Polyline = std::vector<Point2>;
+using Polylines = std::vector<Polyline>;
+
 Polygons union_of(const Polygons& polygons);
 Polygons intersection_of(const Polygons& a, const Polygons& b);
 Polygons difference_of(const Polygons& a, const Polygons& b);
 std::vector<ExPolygon> union_ex(const Polygons& polygons);
+
+// Grows (delta > 0) or shrinks (delta < 0) the area by |delta| mm, mitred corners (limit 3).
+Polygons offset(const Polygons& polygons, double delta);
+// The parts of open `lines` inside `region` (nonzero rule).
+Polylines clip_lines(const Polylines& lines, const Polygons& region);
+// Rings of an ExPolygon set, holes included, for the functions above.
+Polygons to_polygons(const std::vector<ExPolygon>& expolygons);
 
 }  // namespace salient::core

@@ -1,0 +1,108 @@
+// `salient slice MODEL -o out.gcode`: the whole chain — load, place on the printer's bed,
+// saliency, plan, toolpaths, G-code — with a progress line on a terminal.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+
+#include "clients/cli/commands.hpp"
+#include "clients/cli/plan_options.hpp"
+#include "core/common/input_error.hpp"
+#include "core/gcode/gcode_writer.hpp"
+#include "core/toolpath/toolpath_generator.hpp"
+
+namespace salient::cli {
+namespace {
+
+struct SliceOptions {
+  PlanOptions plan;
+  std::string printer = "generic-i3";
+  std::string output;
+  core::ToolpathSettings toolpaths;
+};
+
+core::ProgressFn progress_line() {
+  if (!isatty(STDERR_FILENO)) return {};
+  return [](std::string_view phase, double fraction) {
+    std::fprintf(stderr, "\r%-10.*s %3.0f%%", static_cast<int>(phase.size()), phase.data(), 100 * fraction);
+    if (fraction >= 1) std::fprintf(stderr, "\n");
+  };
+}
+
+void write_atomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".part";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out << text;
+    if (!out) throw core::InputError(path, {}, "cannot write");
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) throw core::InputError(path, {}, "cannot write");
+}
+
+}  // namespace
+
+void add_slice_command(CLI::App& app, CommandAction& action) {
+  auto o = std::make_shared<SliceOptions>();
+  CLI::App* cmd = app.add_subcommand("slice", "Plan the layers of a model and write G-code for a printer");
+  add_plan_options(*cmd, o->plan);
+  cmd->add_option("--planner", o->plan.planner, "Planner (see `salient plan --help`)")->capture_default_str();
+  cmd->add_option("--printer", o->printer, "Printer profile: built-in id (ender3, generic-i3, replicator2x) or a .toml file")
+      ->capture_default_str();
+  cmd->add_option("-o,--output", o->output, "G-code file to write")->required();
+  cmd->add_option("--walls", o->toolpaths.walls, "Number of walls")->capture_default_str()->check(CLI::Range(1, 20));
+  cmd->add_option("--infill", o->toolpaths.infill_density, "Sparse infill density, 0..1")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--line-width", o->toolpaths.line_width, "Extrusion width (mm)")->capture_default_str();
+  cmd->add_option("--top-thickness", o->toolpaths.top_thickness, "Solid skin under top surfaces (mm)")->capture_default_str();
+  cmd->add_option("--bottom-thickness", o->toolpaths.bottom_thickness, "Solid skin over bottom surfaces (mm)")->capture_default_str();
+  auto* min_layer = cmd->get_option("--min-layer");
+  auto* max_layer = cmd->get_option("--max-layer");
+  cmd->callback([o, min_layer, max_layer, &action] {
+    action = [o, from_profile_min = min_layer->count() == 0, from_profile_max = max_layer->count() == 0] {
+      const core::PrinterProfile printer = resolve_printer(o->printer);
+      PlanOptions plan = o->plan;
+      if (from_profile_min) plan.min_layer = printer.min_layer;  // the printer's limits unless overridden
+      if (from_profile_max) plan.max_layer = printer.max_layer;
+      if (!(o->toolpaths.line_width > 0)) throw core::InputError("--line-width", {}, "must be positive");
+      plan.mesh.bed_center_x = printer.bed_center_x();
+      plan.mesh.bed_center_y = printer.bed_center_y();
+      const auto planner = core::make_planner(plan.planner);
+      if (!planner) throw core::InputError("--planner", {}, "unknown planner '" + plan.planner + "'");
+      const auto t0 = std::chrono::steady_clock::now();
+      const auto setup = prepare(plan);
+      core::PlanRequest request = setup->request(target_of(plan, *setup));
+      request.run.progress = progress_line();
+      const core::PlanResult result = planner->plan(request);
+      std::vector<double> z;
+      for (int b : result.plan.boundaries) z.push_back(setup->profile->z(b));
+      core::RunContext run{nullptr, progress_line()};
+      const auto toolpaths = core::generate_toolpaths(setup->model.loaded.mesh, z, o->toolpaths, run);
+      core::GcodeSettings gs;
+      const core::ZProfile& p = *setup->profile;
+      const std::string name = std::filesystem::path(plan.mesh.model).filename().string();
+      gs.summary = {"model = " + name,
+                    "planner = " + plan.planner + ", metric " + plan.metric + ", saliency " + plan.saliency,
+                    "plan = " + std::to_string(result.plan.layer_count()) + " layers (finest " + std::to_string(p.most_layers()) +
+                        "), E " + std::to_string(setup->objective->error(result.plan)) + ", RSMD " +
+                        std::to_string(setup->objective->rsmd(result.plan))};
+      const core::GcodeResult g = core::write_gcode(toolpaths, printer, gs);
+      write_atomically(o->output, g.text);
+      std::size_t open = 0;
+      for (const auto& l : toolpaths) open += l.open_chains;
+      const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      std::printf("%s: %d layers (finest %d, %.1f%% fewer) for %s; print %.0f min, %.2f m filament; sliced in %.2f s -> %s\n",
+                  name.c_str(), result.plan.layer_count(), p.most_layers(),
+                  100.0 * (1 - double(result.plan.layer_count()) / p.most_layers()), printer.name.c_str(), g.seconds / 60,
+                  g.filament_mm / 1000, seconds, o->output.c_str());
+      if (open > 0)
+        std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n", open,
+                    o->toolpaths.max_gap);
+      return 0;
+    };
+  });
+}
+
+}  // namespace salient::cli

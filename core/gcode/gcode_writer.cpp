@@ -1,0 +1,173 @@
+// write_gcode. Layers are written one by one into separate strings, the whole body is timed by
+// estimate_gcode, and then each layer is prefixed with M73 (percent done, minutes left) from
+// those times, and the header gets the totals.
+#include "core/gcode/gcode_writer.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "core/common/input_error.hpp"
+#include "core/gcode/time_estimator.hpp"
+
+namespace salient::core {
+namespace {
+
+std::string fmt(const char* format, double a) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, a);
+  return buf;
+}
+
+// Replaces {key} placeholders of a profile's start/end G-code.
+std::string fill_template(std::string text, const PrinterProfile& p) {
+  const std::pair<const char*, double> values[] = {{"{extruder_temperature}", p.extruder_temperature},
+                                                   {"{bed_temperature}", p.bed_temperature},
+                                                   {"{bed_width}", p.bed_width},
+                                                   {"{bed_depth}", p.bed_depth}};
+  for (const auto& [key, value] : values) {
+    const std::string v = fmt("%g", value);
+    for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + v.size()))
+      text.replace(at, std::string(key).size(), v);
+  }
+  if (!text.empty() && text.back() != '\n') text += '\n';
+  return text;
+}
+
+class LayerWriter {
+ public:
+  LayerWriter(const PrinterProfile& p, const GcodeSettings& s, bool relative_e) : p_(p), s_(s), relative_e_(relative_e) {}
+
+  std::string write(const LayerToolpaths& layer, std::size_t index) {
+    out_.str("");
+    const double h = layer.height();
+    out_ << ";LAYER_CHANGE\n;Z:" << fmt("%.3f", layer.z_top) << "\n;HEIGHT:" << fmt("%.3f", h) << "\n;LAYER:" << index << "\n";
+    if (static_cast<int>(index) == s_.fan_from_layer) out_ << "M106 S255\n";
+    retract();
+    out_ << "G1 Z" << fmt("%.3f", layer.z_top) << " F" << fmt("%.0f", p_.travel_speed * 60) << "\n";
+    // Minimum layer time: slow every extrusion of a quick layer down in proportion.
+    double speed = index == 0 ? p_.first_layer_speed : p_.print_speed;
+    double seconds = 0;
+    for (const ExtrusionPath& path : layer.paths) seconds += path.length() / speed;
+    if (seconds > 0 && seconds < s_.min_layer_time) speed *= seconds / s_.min_layer_time;
+    const double e_per_mm_area = 1.0 / (M_PI * p_.filament_diameter * p_.filament_diameter / 4);
+    for (const ExtrusionPath& path : layer.paths) {
+      if (path.points.empty()) continue;
+      travel(path.points.front());
+      unretract();
+      const double e_per_mm = extrusion_area(path.width, h) * e_per_mm_area;
+      const std::size_t count = path.points.size() + (path.closed ? 1 : 0);
+      for (std::size_t k = 1; k < count; ++k) extrude(path.points[k % path.points.size()], e_per_mm, speed);
+    }
+    return out_.str();
+  }
+
+  double filament() const { return filament_; }
+
+ private:
+  void check(const Point2& p) const {
+    const double x0 = p_.origin_at_center ? -p_.bed_width / 2 : 0, y0 = p_.origin_at_center ? -p_.bed_depth / 2 : 0;
+    if (p.x < x0 - 1e-6 || p.x > x0 + p_.bed_width + 1e-6 || p.y < y0 - 1e-6 || p.y > y0 + p_.bed_depth + 1e-6)
+      throw InputError("model", {}, "does not fit on the bed of " + p_.name + ": a path reaches (" + fmt("%.1f", p.x) + ", " +
+                                        fmt("%.1f", p.y) + ")");
+  }
+  void travel(const Point2& to) {
+    check(to);
+    if (std::hypot(to.x - at_.x, to.y - at_.y) > s_.retract_min_travel || !moved_) retract();
+    out_ << "G0 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " F" << fmt("%.0f", p_.travel_speed * 60) << "\n";
+    at_ = to;
+    moved_ = true;
+  }
+  void extrude(const Point2& to, double e_per_mm, double speed) {
+    check(to);
+    const double e = std::hypot(to.x - at_.x, to.y - at_.y) * e_per_mm;
+    filament_ += e;
+    e_abs_ += e;
+    out_ << "G1 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " E" << fmt("%.5f", relative_e_ ? e : e_abs_)
+         << " F" << fmt("%.0f", speed * 60) << "\n";
+    at_ = to;
+  }
+  void retract() {
+    if (retracted_ || p_.retract_length <= 0) return;
+    e_abs_ -= p_.retract_length;
+    out_ << "G1 E" << fmt("%.5f", relative_e_ ? -p_.retract_length : e_abs_) << " F" << fmt("%.0f", p_.retract_speed * 60) << "\n";
+    retracted_ = true;
+  }
+  void unretract() {
+    if (!retracted_) return;
+    e_abs_ += p_.retract_length;
+    out_ << "G1 E" << fmt("%.5f", relative_e_ ? p_.retract_length : e_abs_) << " F" << fmt("%.0f", p_.retract_speed * 60) << "\n";
+    retracted_ = false;
+  }
+
+  const PrinterProfile& p_;
+  const GcodeSettings& s_;
+  bool relative_e_;
+  std::ostringstream out_;
+  Point2 at_{};
+  bool moved_ = false, retracted_ = false;
+  double e_abs_ = 0, filament_ = 0;
+};
+
+}  // namespace
+
+double extrusion_area(double w, double h) {
+  if (h >= w) return M_PI * w * w / 4;
+  return (w - h) * h + M_PI * h * h / 4;
+}
+
+GcodeResult write_gcode(const std::vector<LayerToolpaths>& layers, const PrinterProfile& printer,
+                        const GcodeSettings& settings) {
+  if (!layers.empty() && layers.back().z_top > printer.max_height + 1e-6)
+    throw InputError("model", {}, "is " + fmt("%.1f", layers.back().z_top) + " mm tall, the " + printer.name + " prints up to " +
+                                      fmt("%.1f", printer.max_height) + " mm");
+  const bool relative_e = settings.relative_e && printer.flavor != GcodeFlavor::sailfish;
+  LayerWriter writer(printer, settings, relative_e);
+  std::vector<std::string> bodies;
+  bodies.reserve(layers.size());
+  for (std::size_t i = 0; i < layers.size(); ++i) bodies.push_back(writer.write(layers[i], i));
+  std::string body;
+  for (const std::string& b : bodies) body += b;
+  MachineLimits limits;
+  limits.acceleration = limits.travel_acceleration = limits.retract_acceleration = printer.acceleration;
+  limits.jerk[0] = limits.jerk[1] = printer.jerk;
+  const GcodeEstimate estimate = estimate_gcode((relative_e ? "M83\n" : "M82\n") + body, "generated", limits);
+
+  GcodeResult result;
+  result.seconds = estimate.seconds;
+  result.filament_mm = writer.filament();
+  result.layers = layers.size();
+  std::ostringstream out;
+  out << "; generated by salient (saliency-preserving adaptive slicing)\n";
+  out << "; printer = " << printer.name << " (" << gcode_flavor_name(printer.flavor) << ")\n";
+  for (const std::string& line : settings.summary) out << "; " << line << "\n";
+  out << "; layers = " << layers.size() << "\n";
+  out << "; estimated printing time = " << fmt("%.0f", estimate.seconds) << " s\n";
+  out << "; filament used [mm] = " << fmt("%.2f", result.filament_mm) << "\n\n";
+  out << "M73 P0 R" << fmt("%.0f", std::ceil(estimate.seconds / 60)) << "\n";
+  if (printer.flavor == GcodeFlavor::marlin) {
+    // State the limits we planned with, so the firmware and every estimator use the same ones.
+    out << "M201 X" << fmt("%.0f", limits.max_axis_acceleration[0]) << " Y" << fmt("%.0f", limits.max_axis_acceleration[1])
+        << " Z" << fmt("%.0f", limits.max_axis_acceleration[2]) << " E" << fmt("%.0f", limits.max_axis_acceleration[3]) << "\n";
+    out << "M203 X" << fmt("%.0f", limits.max_feedrate[0]) << " Y" << fmt("%.0f", limits.max_feedrate[1]) << " Z"
+        << fmt("%.0f", limits.max_feedrate[2]) << " E" << fmt("%.0f", limits.max_feedrate[3]) << "\n";
+    out << "M204 P" << fmt("%.0f", printer.acceleration) << " R" << fmt("%.0f", printer.acceleration) << " T"
+        << fmt("%.0f", printer.acceleration) << "\n";
+    out << "M205 X" << fmt("%.2f", printer.jerk) << " Y" << fmt("%.2f", printer.jerk) << " Z" << fmt("%.2f", limits.jerk[2])
+        << " E" << fmt("%.2f", limits.jerk[3]) << "\n";
+  }
+  out << fill_template(printer.start_gcode, printer);
+  out << (relative_e ? "M83\n" : "M82\n") << "G92 E0\nM107\n";
+  double done = 0;
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const double percent = estimate.seconds > 0 ? 100 * done / estimate.seconds : 0;
+    out << "M73 P" << fmt("%.0f", std::floor(percent)) << " R" << fmt("%.0f", std::ceil((estimate.seconds - done) / 60)) << "\n";
+    out << bodies[i];
+    if (i < estimate.layer_seconds.size()) done += estimate.layer_seconds[i];
+  }
+  out << "M73 P100 R0\nM107\n" << fill_template(printer.end_gcode, printer);
+  result.text = out.str();
+  return result;
+}
+
+}  // namespace salient::core

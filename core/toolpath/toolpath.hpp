@@ -1,0 +1,41 @@
+// Toolpaths: what the nozzle extrudes on each layer, before it becomes G-code.
+#pragma once
+
+#include <vector>
+
+#include "core/geometry/polygon_ops.hpp"
+
+namespace salient::core {
+
+enum class ExtrusionRole { skirt, external_perimeter, perimeter, solid_infill, sparse_infill };
+
+struct ExtrusionPath {
+  Polyline points;
+  bool closed = false;  // a loop: the last point joins the first
+  double width = 0.45;  // mm
+  ExtrusionRole role = ExtrusionRole::perimeter;
+
+  double length() const;
+};
+
+struct LayerToolpaths {
+  double z_bottom = 0, z_top = 0;  // mm; the nozzle prints at z_top
+  std::vector<ExtrusionPath> paths;
+  // Areas (mm²) the paths are meant to fill, for checks: walls, solid infill, sparse infill.
+  double wall_area = 0, solid_area = 0, sparse_area = 0;
+  std::size_t open_chains = 0;  // section chains left open (holes in the mesh)
+
+  double height() const { return z_top - z_bottom; }
+};
+
+struct ToolpathSettings {
+  double line_width = 0.45;        // mm
+  int walls = 2;
+  double top_thickness = 0.8;      // mm of solid skin under a top surface, whatever the layer heights
+  double bottom_thickness = 0.8;   // mm of solid skin over a bottom surface
+  double infill_density = 0.2;     // 0..1, rectilinear
+  double skirt_distance = 3;       // mm from the first layer's outline; 0 for no skirt
+  double max_gap = 1.0;            // mm: open section chains closed up to this gap
+};
+
+}  // namespace salient::core

@@ -1,0 +1,103 @@
+// generate_toolpaths. Skins: layer i's top skin is the part of its infill area not covered by
+// every layer whose bottom lies less than top_thickness above layer i's top (all of it if the
+// model ends within that distance); bottom skins alike downwards. With variable heights this is
+// a distance in millimetres, not a count of layers.
+// Spacing: a line of width w and height h has rounded sides, so neighbouring lines sit
+// w − h·(1 − π/4) apart (Slic3r's flow model); each layer uses its own height, so thick and thin
+// layers both fill their area exactly.
+#include "core/toolpath/toolpath_generator.hpp"
+
+#include <cmath>
+
+#include "core/geometry/mesh_section.hpp"
+#include "core/toolpath/infill_pattern.hpp"
+
+namespace salient::core {
+namespace {
+
+void add_loops(const Polygons& rings, double width, ExtrusionRole role, LayerToolpaths& out) {
+  for (const Polygon& ring : rings)
+    if (ring.size() >= 3) out.paths.push_back({ring, true, width, role});
+}
+
+void add_lines(const Polylines& lines, double width, ExtrusionRole role, LayerToolpaths& out) {
+  for (const Polyline& line : lines)
+    if (line.size() >= 2) out.paths.push_back({line, false, width, role});
+}
+
+// Intersection of the regions of layers [first, last] (empty range: nothing covers).
+Polygons covered_by(const std::vector<Polygons>& regions, std::size_t first, std::size_t last) {
+  if (first > last || last >= regions.size()) return {};
+  Polygons covered = regions[first];
+  for (std::size_t j = first + 1; j <= last && !covered.empty(); ++j) covered = intersection_of(covered, regions[j]);
+  return covered;
+}
+
+}  // namespace
+
+std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vector<double>& z,
+                                               const ToolpathSettings& s, const RunContext& run) {
+  const std::size_t n = z.size() < 2 ? 0 : z.size() - 1;
+  std::vector<double> mid(n);
+  for (std::size_t i = 0; i < n; ++i) mid[i] = 0.5 * (z[i] + z[i + 1]);
+  SectionOptions so;
+  so.max_gap = s.max_gap;
+  const std::vector<Section> sections = section_mesh(mesh, mid, so, run);
+  std::vector<Polygons> regions(n);  // the layer's solid area
+  std::vector<LayerToolpaths> out(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    regions[i] = union_of(sections[i].loops);
+    out[i].z_bottom = z[i];
+    out[i].z_top = z[i + 1];
+    out[i].open_chains = sections[i].open_chains;
+  }
+  const double w = s.line_width;
+  for (std::size_t i = 0; i < n; ++i) {
+    run.check();
+    run.report("toolpaths", static_cast<double>(i) / n);
+    LayerToolpaths& layer = out[i];
+    if (i == 0 && s.skirt_distance > 0) add_loops(union_of(offset(regions[0], s.skirt_distance)), w, ExtrusionRole::skirt, layer);
+    const double spacing = w - layer.height() * (1 - M_PI / 4);
+    // Walls, outermost last (it is printed onto the inner ones' support).
+    Polygons inner = regions[i];
+    std::vector<Polygons> walls;
+    for (int k = 0; k < s.walls && !inner.empty(); ++k) {
+      const Polygons centre = offset(regions[i], -(0.5 * w + k * spacing));
+      if (centre.empty()) break;
+      walls.push_back(centre);
+      inner = offset(regions[i], -(0.5 * w + (k + 0.5) * spacing));
+    }
+    for (std::size_t k = walls.size(); k-- > 0;)
+      add_loops(walls[k], w, k == 0 ? ExtrusionRole::external_perimeter : ExtrusionRole::perimeter, layer);
+    layer.wall_area = covered_area(regions[i]) - covered_area(inner);
+    if (inner.empty()) continue;
+    // Skins: which layers lie within the skin thickness above and below?
+    std::size_t up = i;
+    while (up + 1 < n && out[up + 1].z_bottom < layer.z_top + s.top_thickness - 1e-9) ++up;
+    std::size_t down = i;
+    while (down > 0 && out[down - 1].z_top > layer.z_bottom - s.bottom_thickness + 1e-9) --down;
+    const bool top_open = layer.z_top + s.top_thickness > z.back() + 1e-9 && up == n - 1;
+    const bool bottom_open = layer.z_bottom - s.bottom_thickness < -1e-9 && down == 0;
+    Polygons solid;
+    if (top_open || bottom_open || up == i || down == i) {
+      solid = inner;
+    } else {
+      const Polygons above = covered_by(regions, i + 1, up), below = covered_by(regions, down, i - 1);
+      solid = union_of(difference_of(inner, above));
+      const Polygons bottom_skin = difference_of(inner, below);
+      solid.insert(solid.end(), bottom_skin.begin(), bottom_skin.end());
+      solid = union_of(solid);
+    }
+    const Polygons sparse = difference_of(inner, solid);
+    layer.solid_area = covered_area(solid);
+    layer.sparse_area = covered_area(sparse);
+    const double angle = (i % 2 == 0 ? 45.0 : 135.0) * M_PI / 180;
+    add_lines(rectilinear_infill(solid, spacing, angle), w, ExtrusionRole::solid_infill, layer);
+    if (s.infill_density > 0)
+      add_lines(rectilinear_infill(sparse, spacing / s.infill_density, angle), w, ExtrusionRole::sparse_infill, layer);
+  }
+  run.report("toolpaths", 1.0);
+  return out;
+}
+
+}  // namespace salient::core

@@ -1,0 +1,20 @@
+// generate_toolpaths: from a placed mesh and its layer boundaries to extrusion paths per layer
+// (ALGORITHMS.md §6).
+#pragma once
+
+#include <vector>
+
+#include "core/common/progress.hpp"
+#include "core/mesh/mesh.hpp"
+#include "core/toolpath/toolpath.hpp"
+
+namespace salient::core {
+
+// `boundaries_z` are the layer boundaries in mm, from 0 to the model's height. Each layer is
+// cut at its mid-height; walls are inset from the section, the rest is solid where a top or
+// bottom surface is nearer than the skin thickness (in mm, over however many layers that is),
+// sparse elsewhere. Parallel over layers would change nothing but time: sections are one sweep.
+std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vector<double>& boundaries_z,
+                                               const ToolpathSettings& settings, const RunContext& run = {});
+
+}  // namespace salient::core

@@ -1,0 +1,142 @@
+// Toolpaths and G-code, re-parsed: every layer at the plan's Z and height, every move on the bed,
+// the extruded volume of each layer within 10 % of the walls + infill it should fill, and E
+// consistent with relative or absolute mode. Runs on a variable-height plan.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "core/common/input_error.hpp"
+#include "core/gcode/gcode_line.hpp"
+#include "core/gcode/gcode_writer.hpp"
+#include "core/mesh/placement.hpp"
+#include "core/printer/printer_profile.hpp"
+#include "core/toolpath/toolpath_generator.hpp"
+#include "tests/core/mesh/mesh_test_util.hpp"
+
+using namespace salient::core;
+
+namespace {
+
+struct ParsedLayer {
+  double z = 0, height = 0, e = 0;
+  double move_z = -1;  // the Z the nozzle moved to in this layer
+};
+
+struct Parsed {
+  std::vector<ParsedLayer> layers;
+  double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
+  double e_total = 0;
+  bool monotonic_absolute_e = true;
+};
+
+Parsed parse(const std::string& text, bool relative) {
+  Parsed p;
+  std::istringstream in(text);
+  std::string line;
+  double e_abs = 0, last_e = 0;
+  bool in_body = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("M73 P100", 0) == 0) break;  // the end G-code (park, motors off) follows
+    if (line.rfind(";LAYER_CHANGE", 0) == 0) {
+      p.layers.emplace_back();
+      in_body = true;
+      continue;
+    }
+    if (line.rfind(";Z:", 0) == 0) p.layers.back().z = std::stod(line.substr(3));
+    if (line.rfind(";HEIGHT:", 0) == 0) p.layers.back().height = std::stod(line.substr(8));
+    GcodeError err;
+    const GcodeLine g = parse_gcode_line(line, err);
+    REQUIRE(err == GcodeError::none);
+    if (!in_body || !(g.is('G', 0) || g.is('G', 1))) continue;
+    if (g.has('Z')) p.layers.back().move_z = g.get('Z');
+    if (g.has('X')) p.min_x = std::min(p.min_x, g.get('X')), p.max_x = std::max(p.max_x, g.get('X'));
+    if (g.has('Y')) p.min_y = std::min(p.min_y, g.get('Y')), p.max_y = std::max(p.max_y, g.get('Y'));
+    if (g.has('E')) {
+      const double de = relative ? g.get('E') : g.get('E') - last_e;
+      if (!relative) last_e = g.get('E');
+      if (g.has('X') || g.has('Y')) {
+        p.layers.back().e += de;
+        if (de < 0) p.monotonic_absolute_e = false;
+      }
+      e_abs += de;
+    }
+  }
+  p.e_total = e_abs;
+  return p;
+}
+
+// A 20 × 20 × 6 mm box on the printer's bed, with layers of 0.1 … 0.3 mm.
+std::vector<double> variable_plan() {
+  std::vector<double> z{0};
+  const double steps[] = {0.2, 0.1, 0.3, 0.25, 0.15};
+  for (int i = 0; z.back() < 6 - 1e-9; ++i) z.push_back(std::min(6.0, z.back() + steps[i % 5]));
+  return z;
+}
+
+}  // namespace
+
+TEST_CASE("G-code follows the plan and extrudes what the layers need") {
+  const PrinterProfile printer = *builtin_printer("generic-i3");
+  Mesh box = salient::test::box(20, 20, 6);
+  PlacementOptions o;
+  o.bed_center_x = printer.bed_center_x();
+  o.bed_center_y = printer.bed_center_y();
+  place_mesh(box, o);
+  const std::vector<double> z = variable_plan();
+  ToolpathSettings s;
+  const auto layers = generate_toolpaths(box, z, s);
+  REQUIRE(layers.size() == z.size() - 1);
+  for (bool relative : {true, false}) {
+    CAPTURE(relative);
+    GcodeSettings gs;
+    gs.relative_e = relative;
+    const GcodeResult g = write_gcode(layers, printer, gs);
+    const Parsed p = parse(g.text, relative);
+    REQUIRE(p.layers.size() == layers.size());
+    const double filament_area = M_PI * printer.filament_diameter * printer.filament_diameter / 4;
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      CAPTURE(i);
+      CHECK(p.layers[i].z == doctest::Approx(z[i + 1]).epsilon(1e-6));
+      CHECK(p.layers[i].move_z == doctest::Approx(z[i + 1]).epsilon(1e-6));
+      CHECK(p.layers[i].height == doctest::Approx(z[i + 1] - z[i]).epsilon(1e-3));
+      if (i == 0) continue;  // the skirt is extra on the first layer
+      const LayerToolpaths& l = layers[i];
+      const double expected = (l.wall_area + l.solid_area + s.infill_density * l.sparse_area) * l.height();
+      const double extruded = p.layers[i].e * filament_area;
+      CHECK(extruded == doctest::Approx(expected).epsilon(0.10));
+    }
+    // Solid skins: the bottom 0.8 mm and top 0.8 mm are solid, the middle is sparse.
+    CHECK(layers[1].sparse_area == doctest::Approx(0).epsilon(1e-9));
+    CHECK(layers[layers.size() / 2].sparse_area > 0);
+    CHECK(layers.back().sparse_area == doctest::Approx(0).epsilon(1e-9));
+    // On the bed, and around the box's footprint (centre 100,100; skirt 3 mm out).
+    CHECK(p.min_x >= 0);
+    CHECK(p.max_x <= printer.bed_width);
+    CHECK(p.min_y >= 0);
+    CHECK(p.max_y <= printer.bed_depth);
+    CHECK(p.min_x == doctest::Approx(100 - 10 - 3 - s.line_width / 2).epsilon(0.01));
+    CHECK(p.e_total == doctest::Approx(g.filament_mm).epsilon(1e-4));
+    if (!relative) CHECK(p.monotonic_absolute_e);
+    CHECK(g.seconds > 0);
+  }
+}
+
+TEST_CASE("a model too big for the bed, or too tall, is refused") {
+  const PrinterProfile printer = *builtin_printer("replicator2x");
+  Mesh big = salient::test::box(300, 20, 5);
+  place_mesh(big, {});
+  const auto layers = generate_toolpaths(big, {0, 0.2, 0.4}, {});
+  CHECK_THROWS_AS(write_gcode(layers, printer, {}), InputError);
+  Mesh tall = salient::test::box(10, 10, 200);
+  place_mesh(tall, {});
+  const auto tall_layers = generate_toolpaths(tall, {0, 100, 200}, {});
+  CHECK_THROWS_WITH_AS(write_gcode(tall_layers, printer, {}),
+                       "model: is 200.0 mm tall, the MakerBot Replicator 2X prints up to 150.0 mm", InputError);
+}
+
+TEST_CASE("flow: the cross-section of a line") {
+  CHECK(extrusion_area(0.45, 0.2) == doctest::Approx(0.25 * 0.2 + M_PI * 0.01));
+  CHECK(extrusion_area(0.4, 0.4) == doctest::Approx(M_PI * 0.04));
+}
