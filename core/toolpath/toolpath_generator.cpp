@@ -7,6 +7,9 @@
 // layers both fill their area exactly.
 #include "core/toolpath/toolpath_generator.hpp"
 
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
 #include <cmath>
 
 #include "core/geometry/mesh_section.hpp"
@@ -33,6 +36,52 @@ Polygons covered_by(const std::vector<Polygons>& regions, std::size_t first, std
   return covered;
 }
 
+void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std::vector<double>& z, const ToolpathSettings& s,
+                 std::vector<LayerToolpaths>& out) {
+  const std::size_t n = out.size();
+  const double w = s.line_width;
+  LayerToolpaths& layer = out[i];
+  if (i == 0 && s.skirt_distance > 0) add_loops(union_of(offset(regions[0], s.skirt_distance)), w, ExtrusionRole::skirt, layer);
+  const double spacing = w - layer.height() * (1 - M_PI / 4);
+  // Walls, outermost last (it is printed onto the inner ones' support).
+  Polygons inner = regions[i];
+  std::vector<Polygons> walls;
+  for (int k = 0; k < s.walls && !inner.empty(); ++k) {
+    const Polygons centre = offset(regions[i], -(0.5 * w + k * spacing));
+    if (centre.empty()) break;
+    walls.push_back(centre);
+    inner = offset(regions[i], -(0.5 * w + (k + 0.5) * spacing));
+  }
+  for (std::size_t k = walls.size(); k-- > 0;)
+    add_loops(walls[k], w, k == 0 ? ExtrusionRole::external_perimeter : ExtrusionRole::perimeter, layer);
+  layer.wall_area = covered_area(regions[i]) - covered_area(inner);
+  if (inner.empty()) return;
+  // Skins: which layers lie within the skin thickness above and below?
+  std::size_t up = i;
+  while (up + 1 < n && out[up + 1].z_bottom < layer.z_top + s.top_thickness - 1e-9) ++up;
+  std::size_t down = i;
+  while (down > 0 && out[down - 1].z_top > layer.z_bottom - s.bottom_thickness + 1e-9) --down;
+  const bool top_open = layer.z_top + s.top_thickness > z.back() + 1e-9 && up == n - 1;
+  const bool bottom_open = layer.z_bottom - s.bottom_thickness < -1e-9 && down == 0;
+  Polygons solid;
+  if (top_open || bottom_open || up == i || down == i) {
+    solid = inner;
+  } else {
+    const Polygons above = covered_by(regions, i + 1, up), below = covered_by(regions, down, i - 1);
+    solid = union_of(difference_of(inner, above));
+    const Polygons bottom_skin = difference_of(inner, below);
+    solid.insert(solid.end(), bottom_skin.begin(), bottom_skin.end());
+    solid = union_of(solid);
+  }
+  const Polygons sparse = difference_of(inner, solid);
+  layer.solid_area = covered_area(solid);
+  layer.sparse_area = covered_area(sparse);
+  const double angle = (i % 2 == 0 ? 45.0 : 135.0) * M_PI / 180;
+  add_lines(rectilinear_infill(solid, spacing, angle), w, ExtrusionRole::solid_infill, layer);
+  if (s.infill_density > 0)
+    add_lines(rectilinear_infill(sparse, spacing / s.infill_density, angle), w, ExtrusionRole::sparse_infill, layer);
+}
+
 }  // namespace
 
 std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vector<double>& z,
@@ -51,53 +100,17 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
     out[i].z_top = z[i + 1];
     out[i].open_chains = sections[i].open_chains;
   }
-  const double w = s.line_width;
-  for (std::size_t i = 0; i < n; ++i) {
+  // Layers only read each other's regions: in parallel, in blocks so progress and cancellation
+  // stay on the calling thread.
+  constexpr std::size_t block = 64;
+  for (std::size_t first = 0; first < n; first += block) {
     run.check();
-    run.report("toolpaths", static_cast<double>(i) / n);
-    LayerToolpaths& layer = out[i];
-    if (i == 0 && s.skirt_distance > 0) add_loops(union_of(offset(regions[0], s.skirt_distance)), w, ExtrusionRole::skirt, layer);
-    const double spacing = w - layer.height() * (1 - M_PI / 4);
-    // Walls, outermost last (it is printed onto the inner ones' support).
-    Polygons inner = regions[i];
-    std::vector<Polygons> walls;
-    for (int k = 0; k < s.walls && !inner.empty(); ++k) {
-      const Polygons centre = offset(regions[i], -(0.5 * w + k * spacing));
-      if (centre.empty()) break;
-      walls.push_back(centre);
-      inner = offset(regions[i], -(0.5 * w + (k + 0.5) * spacing));
-    }
-    for (std::size_t k = walls.size(); k-- > 0;)
-      add_loops(walls[k], w, k == 0 ? ExtrusionRole::external_perimeter : ExtrusionRole::perimeter, layer);
-    layer.wall_area = covered_area(regions[i]) - covered_area(inner);
-    if (inner.empty()) continue;
-    // Skins: which layers lie within the skin thickness above and below?
-    std::size_t up = i;
-    while (up + 1 < n && out[up + 1].z_bottom < layer.z_top + s.top_thickness - 1e-9) ++up;
-    std::size_t down = i;
-    while (down > 0 && out[down - 1].z_top > layer.z_bottom - s.bottom_thickness + 1e-9) --down;
-    const bool top_open = layer.z_top + s.top_thickness > z.back() + 1e-9 && up == n - 1;
-    const bool bottom_open = layer.z_bottom - s.bottom_thickness < -1e-9 && down == 0;
-    Polygons solid;
-    if (top_open || bottom_open || up == i || down == i) {
-      solid = inner;
-    } else {
-      const Polygons above = covered_by(regions, i + 1, up), below = covered_by(regions, down, i - 1);
-      solid = union_of(difference_of(inner, above));
-      const Polygons bottom_skin = difference_of(inner, below);
-      solid.insert(solid.end(), bottom_skin.begin(), bottom_skin.end());
-      solid = union_of(solid);
-    }
-    const Polygons sparse = difference_of(inner, solid);
-    layer.solid_area = covered_area(solid);
-    layer.sparse_area = covered_area(sparse);
-    const double angle = (i % 2 == 0 ? 45.0 : 135.0) * M_PI / 180;
-    add_lines(rectilinear_infill(solid, spacing, angle), w, ExtrusionRole::solid_infill, layer);
-    if (s.infill_density > 0)
-      add_lines(rectilinear_infill(sparse, spacing / s.infill_density, angle), w, ExtrusionRole::sparse_infill, layer);
+    run.report("toolpaths", static_cast<double>(first) / n);
+    tbb::parallel_for(first, std::min(n, first + block), [&](std::size_t i) { build_layer(i, regions, z, s, out); });
   }
   run.report("toolpaths", 1.0);
   return out;
 }
 
 }  // namespace salient::core
+
