@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   salient::cli::add_saliency_command(app, action);
   salient::cli::add_estimate_command(app, action);
   salient::cli::add_slice_command(app, action);
+  salient::cli::add_export_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

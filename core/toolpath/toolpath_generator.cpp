@@ -106,7 +106,10 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
   for (std::size_t first = 0; first < n; first += block) {
     run.check();
     run.report("toolpaths", static_cast<double>(first) / n);
-    tbb::parallel_for(first, std::min(n, first + block), [&](std::size_t i) { build_layer(i, regions, z, s, out); });
+    tbb::parallel_for(first, std::min(n, first + block), [&](std::size_t i) {
+      run.check();  // also inside a block: one layer of a pathological mesh can take long
+      build_layer(i, regions, z, s, out);
+    });
   }
   run.report("toolpaths", 1.0);
   return out;
