@@ -21,6 +21,7 @@ struct SliceOptions {
   std::string printer = "generic-i3";
   std::string output;
   core::ToolpathSettings toolpaths;
+  bool combine_infill = true;
 };
 
 core::ProgressFn progress_line() {
@@ -58,6 +59,9 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
   cmd->add_option("--line-width", o->toolpaths.line_width, "Extrusion width (mm)")->capture_default_str();
   cmd->add_option("--top-thickness", o->toolpaths.top_thickness, "Solid skin under top surfaces (mm)")->capture_default_str();
   cmd->add_option("--bottom-thickness", o->toolpaths.bottom_thickness, "Solid skin over bottom surfaces (mm)")->capture_default_str();
+  cmd->add_option("--combine-infill", o->combine_infill,
+                  "Print sparse infill once for thin layers that fit under the printer's thickest layer")
+      ->capture_default_str();
   auto* min_layer = cmd->get_option("--min-layer");
   auto* max_layer = cmd->get_option("--max-layer");
   cmd->callback([o, min_layer, max_layer, &action] {
@@ -79,6 +83,7 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       std::vector<double> z;
       for (int b : result.plan.boundaries) z.push_back(setup->profile->z(b));
       core::RunContext run{nullptr, progress_line()};
+      if (o->combine_infill) o->toolpaths.combine_infill_up_to = printer.max_layer;
       const auto toolpaths = core::generate_toolpaths(setup->model.loaded.mesh, z, o->toolpaths, run);
       core::GcodeSettings gs;
       const core::ZProfile& p = *setup->profile;

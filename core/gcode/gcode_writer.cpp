@@ -53,9 +53,9 @@ class LayerWriter {
     const double e_per_mm_area = 1.0 / (M_PI * p_.filament_diameter * p_.filament_diameter / 4);
     for (const ExtrusionPath& path : layer.paths) {
       if (path.points.empty()) continue;
-      travel(path.points.front());
+      travel(path.points.front(), layer.region);
       unretract();
-      const double e_per_mm = extrusion_area(path.width, h) * e_per_mm_area;
+      const double e_per_mm = extrusion_area(path.width, path.height > 0 ? path.height : h) * e_per_mm_area;
       const std::size_t count = path.points.size() + (path.closed ? 1 : 0);
       for (std::size_t k = 1; k < count; ++k) extrude(path.points[k % path.points.size()], e_per_mm, speed);
     }
@@ -71,9 +71,12 @@ class LayerWriter {
       throw InputError("model", {}, "does not fit on the bed of " + p_.name + ": a path reaches (" + fmt("%.1f", p.x) + ", " +
                                         fmt("%.1f", p.y) + ")");
   }
-  void travel(const Point2& to) {
+  // Combing: a travel that stays inside the part leaves any ooze where it is hidden, so only
+  // travels that are long and cross the outline retract.
+  void travel(const Point2& to, const Polygons& region) {
     check(to);
-    if (std::hypot(to.x - at_.x, to.y - at_.y) > s_.retract_min_travel || !moved_) retract();
+    const bool long_travel = std::hypot(to.x - at_.x, to.y - at_.y) > s_.retract_min_travel;
+    if (!moved_ || (long_travel && !segment_inside(region, at_, to))) retract();
     out_ << "G0 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " F" << fmt("%.0f", p_.travel_speed * 60) << "\n";
     at_ = to;
     moved_ = true;

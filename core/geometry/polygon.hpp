@@ -23,4 +23,9 @@ struct ExPolygon {
 // Shoelace area: positive for counter-clockwise rings.
 double signed_area(const Polygon& ring);
 
+// Whether p is inside the set (nonzero winding: holes, being clockwise, cut out).
+bool contains(const Polygons& polygons, const Point2& p);
+// Whether the segment a–b stays inside the set: its midpoint inside, no ring edge crossed.
+bool segment_inside(const Polygons& polygons, const Point2& a, const Point2& b);
+
 }  // namespace salient::core

@@ -14,6 +14,7 @@ struct ExtrusionPath {
   bool closed = false;  // a loop: the last point joins the first
   double width = 0.45;  // mm
   ExtrusionRole role = ExtrusionRole::perimeter;
+  double height = 0;    // mm of material it lays down; 0: the layer's height (more where infill is combined)
 
   double length() const;
 };
@@ -24,6 +25,8 @@ struct LayerToolpaths {
   // Areas (mm²) the paths are meant to fill, for checks: walls, solid infill, sparse infill.
   double wall_area = 0, solid_area = 0, sparse_area = 0;
   std::size_t open_chains = 0;  // section chains left open (holes in the mesh)
+  Polygons region;              // the layer's outline (travel inside it needs no retraction)
+  Polygons sparse;              // where its sparse infill goes (filled in a second pass)
 
   double height() const { return z_top - z_bottom; }
 };
@@ -36,6 +39,10 @@ struct ToolpathSettings {
   double infill_density = 0.2;     // 0..1, rectilinear
   double skirt_distance = 3;       // mm from the first layer's outline; 0 for no skirt
   double max_gap = 1.0;            // mm: open section chains closed up to this gap
+  // Sparse infill is printed once for as many thin layers as fit under this height (mm), where
+  // all of them have sparse infill (Sabourin 1996's fast interior, the paper's solid option);
+  // 0 prints it on every layer.
+  double combine_infill_up_to = 0;
 };
 
 }  // namespace salient::core

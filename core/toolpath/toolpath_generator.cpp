@@ -73,13 +73,48 @@ void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std:
     solid.insert(solid.end(), bottom_skin.begin(), bottom_skin.end());
     solid = union_of(solid);
   }
-  const Polygons sparse = difference_of(inner, solid);
+  layer.sparse = difference_of(inner, solid);
   layer.solid_area = covered_area(solid);
-  layer.sparse_area = covered_area(sparse);
+  layer.sparse_area = covered_area(layer.sparse);
   const double angle = (i % 2 == 0 ? 45.0 : 135.0) * M_PI / 180;
   add_lines(rectilinear_infill(solid, spacing, angle), w, ExtrusionRole::solid_infill, layer);
-  if (s.infill_density > 0)
-    add_lines(rectilinear_infill(sparse, spacing / s.infill_density, angle), w, ExtrusionRole::sparse_infill, layer);
+}
+
+// Sparse infill, in groups of consecutive layers no thicker together than combine_infill_up_to:
+// where every layer of a group has sparse infill it is printed once, on the group's top layer,
+// as thick as the group; elsewhere each layer prints its own. Rectilinear at 45°/135° by group,
+// so the lines of successive groups cross.
+void add_sparse_infill(std::vector<LayerToolpaths>& layers, const ToolpathSettings& s, const RunContext& run) {
+  if (!(s.infill_density > 0)) return;
+  std::vector<std::pair<std::size_t, std::size_t>> groups;  // [first, last]
+  for (std::size_t i = 0; i < layers.size();) {
+    std::size_t j = i;
+    double h = layers[i].height();
+    while (j + 1 < layers.size() && h + layers[j + 1].height() <= s.combine_infill_up_to + 1e-9) h += layers[++j].height();
+    groups.emplace_back(i, j);
+    i = j + 1;
+  }
+  tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+    run.check();
+    const auto [first, last] = groups[g];
+    const double angle = (g % 2 == 0 ? 45.0 : 135.0) * M_PI / 180;
+    const double w = s.line_width;
+    Polygons common = layers[first].sparse;
+    for (std::size_t k = first + 1; k <= last && !common.empty(); ++k) common = intersection_of(common, layers[k].sparse);
+    if (first == last) common.clear();
+    for (std::size_t k = first; k <= last; ++k) {
+      LayerToolpaths& layer = layers[k];
+      const Polygons own = common.empty() ? layer.sparse : difference_of(layer.sparse, common);
+      const double spacing = w - layer.height() * (1 - M_PI / 4);
+      add_lines(rectilinear_infill(own, spacing / s.infill_density, angle), w, ExtrusionRole::sparse_infill, layer);
+    }
+    if (common.empty()) return;
+    LayerToolpaths& top = layers[last];
+    const double h = top.z_top - layers[first].z_bottom;
+    const std::size_t before = top.paths.size();
+    add_lines(rectilinear_infill(common, (w - h * (1 - M_PI / 4)) / s.infill_density, angle), w, ExtrusionRole::sparse_infill, top);
+    for (std::size_t p = before; p < top.paths.size(); ++p) top.paths[p].height = h;
+  });
 }
 
 }  // namespace
@@ -96,6 +131,7 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
   std::vector<LayerToolpaths> out(n);
   for (std::size_t i = 0; i < n; ++i) {
     regions[i] = union_of(sections[i].loops);
+    out[i].region = regions[i];
     out[i].z_bottom = z[i];
     out[i].z_top = z[i + 1];
     out[i].open_chains = sections[i].open_chains;
@@ -111,6 +147,7 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
       build_layer(i, regions, z, s, out);
     });
   }
+  add_sparse_infill(out, s, run);
   run.report("toolpaths", 1.0);
   return out;
 }

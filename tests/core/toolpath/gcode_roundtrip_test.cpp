@@ -140,3 +140,56 @@ TEST_CASE("flow: the cross-section of a line") {
   CHECK(extrusion_area(0.45, 0.2) == doctest::Approx(0.25 * 0.2 + M_PI * 0.01));
   CHECK(extrusion_area(0.4, 0.4) == doctest::Approx(M_PI * 0.04));
 }
+
+TEST_CASE("infill combined over thin layers: fewer passes, the same material") {
+  const PrinterProfile printer = *builtin_printer("generic-i3");
+  Mesh box = salient::test::box(20, 20, 6);
+  PlacementOptions o;
+  o.bed_center_x = printer.bed_center_x();
+  o.bed_center_y = printer.bed_center_y();
+  place_mesh(box, o);
+  std::vector<double> z;
+  for (int i = 0; i <= 60; ++i) z.push_back(i * 0.1);  // 0.1 mm layers
+  ToolpathSettings every, combined;
+  combined.combine_infill_up_to = 0.4;
+  const auto a = generate_toolpaths(box, z, every);
+  const auto b = generate_toolpaths(box, z, combined);
+  const auto sparse_passes = [](const std::vector<LayerToolpaths>& layers) {
+    std::size_t n = 0;
+    for (const auto& l : layers)
+      for (const auto& p : l.paths) n += p.role == ExtrusionRole::sparse_infill;
+    return n;
+  };
+  CHECK(sparse_passes(b) < sparse_passes(a) / 2);
+  bool thick = false;
+  for (const auto& l : b)
+    for (const auto& p : l.paths)
+      if (p.role == ExtrusionRole::sparse_infill && p.height > 0) {
+        CHECK(p.height <= 0.4 + 1e-9);
+        thick = true;
+      }
+  CHECK(thick);
+  const double ga = write_gcode(a, printer, {}).filament_mm, gb = write_gcode(b, printer, {}).filament_mm;
+  CHECK(gb == doctest::Approx(ga).epsilon(0.05));
+}
+
+TEST_CASE("combing: travels inside the part do not retract, travels across the outline do") {
+  PrinterProfile printer = *builtin_printer("generic-i3");
+  LayerToolpaths layer;
+  layer.z_bottom = 0;
+  layer.z_top = 0.2;
+  layer.region = {{{50, 50}, {150, 50}, {150, 150}, {50, 150}}};
+  layer.paths.push_back({{{60, 60}, {70, 60}}, false, 0.45, ExtrusionRole::solid_infill});
+  layer.paths.push_back({{{140, 140}, {130, 140}}, false, 0.45, ExtrusionRole::solid_infill});  // far, but inside
+  LayerToolpaths ring = layer;
+  ring.region = {{{50, 50}, {150, 50}, {150, 150}, {50, 150}}, {{80, 80}, {80, 120}, {120, 120}, {120, 80}}};  // a hole
+  const auto retractions = [&](const LayerToolpaths& l) {
+    GcodeSettings s;
+    const std::string text = write_gcode({l}, printer, s).text;
+    std::size_t n = 0;
+    for (std::size_t at = text.find("G1 E-"); at != std::string::npos; at = text.find("G1 E-", at + 1)) ++n;
+    return n;
+  };
+  CHECK(retractions(layer) == 1);  // only before the first move
+  CHECK(retractions(ring) == 2);   // the diagonal travel crosses the hole
+}
