@@ -11,6 +11,7 @@
 #include "clients/cli/plan_options.hpp"
 #include "core/common/input_error.hpp"
 #include "core/gcode/gcode_writer.hpp"
+#include "core/toolpath/support_generator.hpp"
 #include "core/toolpath/toolpath_generator.hpp"
 
 namespace salient::cli {
@@ -22,6 +23,8 @@ struct SliceOptions {
   std::string output;
   core::ToolpathSettings toolpaths;
   bool combine_infill = true;
+  bool support = false;
+  core::SupportSettings support_settings;
 };
 
 core::ProgressFn progress_line() {
@@ -62,6 +65,10 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
   cmd->add_option("--combine-infill", o->combine_infill,
                   "Print sparse infill once for thin layers that fit under the printer's thickest layer")
       ->capture_default_str();
+  cmd->add_flag("--support", o->support, "Add support under overhangs");
+  cmd->add_option("--support-angle", o->support_settings.angle, "Overhangs steeper than this from vertical get support (°)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 89.0));
   auto* min_layer = cmd->get_option("--min-layer");
   auto* max_layer = cmd->get_option("--max-layer");
   cmd->callback([o, min_layer, max_layer, &action] {
@@ -84,7 +91,11 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       for (int b : result.plan.boundaries) z.push_back(setup->profile->z(b));
       core::RunContext run{nullptr, progress_line()};
       if (o->combine_infill) o->toolpaths.combine_infill_up_to = printer.max_layer;
-      const auto toolpaths = core::generate_toolpaths(setup->model.loaded.mesh, z, o->toolpaths, run);
+      auto toolpaths = core::generate_toolpaths(setup->model.loaded.mesh, z, o->toolpaths, run);
+      if (o->support) {
+        o->support_settings.line_width = o->toolpaths.line_width;
+        core::add_support(toolpaths, o->support_settings, run);
+      }
       core::GcodeSettings gs;
       const core::ZProfile& p = *setup->profile;
       const std::string name = std::filesystem::path(plan.mesh.model).filename().string();

@@ -7,7 +7,7 @@
 
 namespace salient::core {
 
-enum class ExtrusionRole { skirt, external_perimeter, perimeter, solid_infill, sparse_infill };
+enum class ExtrusionRole { skirt, support, external_perimeter, perimeter, solid_infill, sparse_infill };
 
 struct ExtrusionPath {
   Polyline points;

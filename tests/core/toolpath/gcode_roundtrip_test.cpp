@@ -12,6 +12,7 @@
 #include "core/gcode/gcode_writer.hpp"
 #include "core/mesh/placement.hpp"
 #include "core/printer/printer_profile.hpp"
+#include "core/toolpath/support_generator.hpp"
 #include "core/toolpath/toolpath_generator.hpp"
 #include "tests/core/mesh/mesh_test_util.hpp"
 
@@ -192,4 +193,44 @@ TEST_CASE("combing: travels inside the part do not retract, travels across the o
   };
   CHECK(retractions(layer) == 1);  // only before the first move
   CHECK(retractions(ring) == 2);   // the diagonal travel crosses the hole
+}
+
+TEST_CASE("support goes under overhangs and nowhere else") {
+  // A 10 × 10 × 10 pillar carrying a 30 × 10 × 2 plate that overhangs it by 10 mm each side.
+  Mesh t = salient::test::box(10, 10, 10);
+  Mesh plate = salient::test::box(30, 10, 2);
+  for (Vec3& p : plate.positions) p += Vec3{-10, 0, 10};
+  for (Triangle tri : plate.triangles) {
+    for (std::uint32_t& v : tri) v += 8;
+    t.triangles.push_back(tri);
+  }
+  t.positions.insert(t.positions.end(), plate.positions.begin(), plate.positions.end());
+  std::vector<double> z;
+  for (int i = 0; i <= 60; ++i) z.push_back(i * 0.2);
+  auto layers = generate_toolpaths(t, z, {});
+  add_support(layers, {});
+  double min_x = 1e9, max_x = -1e9;
+  std::size_t supported_layers = 0;
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    bool any = false;
+    for (const auto& p : layers[i].paths) {
+      if (p.role != ExtrusionRole::support) continue;
+      any = true;
+      for (const Point2& q : p.points) {
+        min_x = std::min(min_x, q.x), max_x = std::max(max_x, q.x);
+        CHECK_FALSE((q.x > -0.5 && q.x < 10.5));  // never inside the pillar (plus its gap)
+      }
+    }
+    if (any) {
+      ++supported_layers;
+      CHECK(layers[i].z_top < 10 - 0.2 + 1e-9);  // one layer's gap under the plate, none above
+    }
+  }
+  CHECK(supported_layers == 49);  // z 0.2 … 9.8
+  CHECK(min_x < -8);
+  CHECK(max_x > 18);
+  auto plain = generate_toolpaths(salient::test::box(10, 10, 10), z, {});
+  add_support(plain, {});
+  for (const auto& l : plain)
+    for (const auto& p : l.paths) CHECK(p.role != ExtrusionRole::support);
 }
