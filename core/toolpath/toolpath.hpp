@@ -38,7 +38,7 @@ struct ToolpathSettings {
   double bottom_thickness = 0.8;   // mm of solid skin over a bottom surface
   double infill_density = 0.2;     // 0..1, rectilinear
   double skirt_distance = 3;       // mm from the first layer's outline; 0 for no skirt
-  double max_gap = 1.0;            // mm: open section chains closed up to this gap
+  double max_gap = 3.0;            // mm: open section chains closed up to this gap
   // Sparse infill is printed once for as many thin layers as fit under this height (mm), where
   // all of them have sparse infill (Sabourin 1996's fast interior, the paper's solid option);
   // 0 prints it on every layer.
