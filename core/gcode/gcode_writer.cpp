@@ -34,6 +34,10 @@ std::string fill_template(std::string text, const PrinterProfile& p) {
   return text;
 }
 
+// Part-cooling fan: Sailfish (MakerBot) has its own M-codes; Marlin and RepRap share M106/M107.
+const char* fan_on(GcodeFlavor f) { return f == GcodeFlavor::sailfish ? "M126 T0" : "M106 S255"; }
+const char* fan_off(GcodeFlavor f) { return f == GcodeFlavor::sailfish ? "M127 T0" : "M107"; }
+
 class LayerWriter {
  public:
   LayerWriter(const PrinterProfile& p, const GcodeSettings& s, bool relative_e) : p_(p), s_(s), relative_e_(relative_e) {}
@@ -42,7 +46,7 @@ class LayerWriter {
     out_.str("");
     const double h = layer.height();
     out_ << ";LAYER_CHANGE\n;Z:" << fmt("%.3f", layer.z_top) << "\n;HEIGHT:" << fmt("%.3f", h) << "\n;LAYER:" << index << "\n";
-    if (static_cast<int>(index) == s_.fan_from_layer) out_ << "M106 S255\n";
+    if (static_cast<int>(index) == s_.fan_from_layer) out_ << fan_on(p_.flavor) << "\n";
     retract();
     out_ << "G1 Z" << fmt("%.3f", layer.z_top) << " F" << fmt("%.0f", p_.travel_speed * 60) << "\n";
     // Minimum layer time: slow every extrusion of a quick layer down in proportion.
@@ -160,7 +164,7 @@ GcodeResult write_gcode(const std::vector<LayerToolpaths>& layers, const Printer
         << " E" << fmt("%.2f", limits.jerk[3]) << "\n";
   }
   out << fill_template(printer.start_gcode, printer);
-  out << (relative_e ? "M83\n" : "M82\n") << "G92 E0\nM107\n";
+  out << (relative_e ? "M83\n" : "M82\n") << "G92 E0\n" << fan_off(printer.flavor) << "\n";
   double done = 0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const double percent = estimate.seconds > 0 ? 100 * done / estimate.seconds : 0;
@@ -168,7 +172,7 @@ GcodeResult write_gcode(const std::vector<LayerToolpaths>& layers, const Printer
     out << bodies[i];
     if (i < estimate.layer_seconds.size()) done += estimate.layer_seconds[i];
   }
-  out << "M73 P100 R0\nM107\n" << fill_template(printer.end_gcode, printer);
+  out << "M73 P100 R0\n" << fan_off(printer.flavor) << "\n" << fill_template(printer.end_gcode, printer);
   result.text = out.str();
   return result;
 }

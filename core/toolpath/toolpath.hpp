@@ -43,6 +43,8 @@ struct ToolpathSettings {
   // all of them have sparse infill (Sabourin 1996's fast interior, the paper's solid option);
   // 0 prints it on every layer.
   double combine_infill_up_to = 0;
+  // A region of a segmented plan: only this XY area of the mesh is printed (empty: all of it).
+  Polygons clip;
 };
 
 }  // namespace salient::core

@@ -130,7 +130,7 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
   std::vector<Polygons> regions(n);  // the layer's solid area
   std::vector<LayerToolpaths> out(n);
   for (std::size_t i = 0; i < n; ++i) {
-    regions[i] = union_of(sections[i].loops);
+    regions[i] = s.clip.empty() ? union_of(sections[i].loops) : intersection_of(union_of(sections[i].loops), s.clip);
     out[i].region = regions[i];
     out[i].z_bottom = z[i];
     out[i].z_top = z[i + 1];
@@ -152,5 +152,33 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
   return out;
 }
 
-}  // namespace salient::core
+std::vector<LayerToolpaths> merge_by_print_height(const std::vector<std::vector<LayerToolpaths>>& regions) {
+  std::vector<const LayerToolpaths*> all;
+  for (const auto& region : regions)
+    for (const LayerToolpaths& layer : region) all.push_back(&layer);
+  std::stable_sort(all.begin(), all.end(), [](const LayerToolpaths* a, const LayerToolpaths* b) { return a->z_top < b->z_top; });
+  std::vector<LayerToolpaths> out;
+  constexpr double same = 1e-6;  // mm: tops closer than this are one printed layer
+  for (const LayerToolpaths* layer : all) {
+    if (out.empty() || layer->z_top > out.back().z_top + same) {
+      LayerToolpaths merged;
+      merged.z_top = layer->z_top;
+      merged.z_bottom = out.empty() ? 0 : out.back().z_top;
+      out.push_back(std::move(merged));
+    }
+    LayerToolpaths& target = out.back();
+    for (ExtrusionPath path : layer->paths) {
+      if (path.height <= 0) path.height = layer->height();  // keeps its region's own height
+      target.paths.push_back(std::move(path));
+    }
+    target.region.insert(target.region.end(), layer->region.begin(), layer->region.end());
+    target.wall_area += layer->wall_area;
+    target.solid_area += layer->solid_area;
+    target.sparse_area += layer->sparse_area;
+    target.open_chains += layer->open_chains;
+  }
+  for (LayerToolpaths& layer : out) layer.region = union_of(layer.region);
+  return out;
+}
 
+}  // namespace salient::core

@@ -17,4 +17,10 @@ namespace salient::core {
 std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vector<double>& boundaries_z,
                                                const ToolpathSettings& settings, const RunContext& run = {});
 
+// Multi-region plans (paper §5 and §7): each region is sliced with its own layers; the layers
+// of all regions are merged by print height — one printed layer per distinct top z, holding
+// every region's paths that end there, each keeping its own height (so its own extrusion).
+// The printed layer's height is the rise from the previous printed top.
+std::vector<LayerToolpaths> merge_by_print_height(const std::vector<std::vector<LayerToolpaths>>& regions);
+
 }  // namespace salient::core

@@ -234,3 +234,64 @@ TEST_CASE("support goes under overhangs and nowhere else") {
   for (const auto& l : plain)
     for (const auto& p : l.paths) CHECK(p.role != ExtrusionRole::support);
 }
+
+TEST_CASE("a two-region plan prints each half at its own heights, merged by print height") {
+  const PrinterProfile printer = *builtin_printer("generic-i3");
+  Mesh box = salient::test::box(20, 10, 6);
+  PlacementOptions o;
+  o.bed_center_x = printer.bed_center_x();
+  o.bed_center_y = printer.bed_center_y();
+  place_mesh(box, o);  // x from 90 to 110
+  std::vector<double> fine, coarse;
+  for (int i = 0; i <= 60; ++i) fine.push_back(i * 0.1);
+  for (int i = 0; i <= 20; ++i) coarse.push_back(i * 0.3);
+  ToolpathSettings left, right;
+  left.clip = {{{0, 0}, {100, 0}, {100, 200}, {0, 200}}};
+  right.clip = {{{100, 0}, {200, 0}, {200, 200}, {100, 200}}};
+  left.skirt_distance = right.skirt_distance = 0;
+  const auto merged = merge_by_print_height({generate_toolpaths(box, fine, left), generate_toolpaths(box, coarse, right)});
+  CHECK(merged.size() == 60);  // every 0.3 mm top is also a 0.1 mm top
+  double expected = 0;
+  std::size_t thick_paths = 0;
+  for (const auto& l : merged)
+    for (const auto& p : l.paths) {
+      CHECK((std::fabs(p.height - 0.1) < 1e-9 || std::fabs(p.height - 0.3) < 1e-9));
+      thick_paths += p.height > 0.2;
+      for (const Point2& q : p.points) CHECK(((p.height < 0.2) == (q.x < 100 + 1e-6)));  // each half its own height
+    }
+  CHECK(thick_paths > 0);
+  const auto fine_layers = generate_toolpaths(box, fine, left), coarse_layers = generate_toolpaths(box, coarse, right);
+  for (const auto* set : {&fine_layers, &coarse_layers})
+    for (const auto& l : *set) expected += (l.wall_area + l.solid_area + 0.2 * l.sparse_area) * l.height();
+  const GcodeResult g = write_gcode(merged, printer, {});
+  const double extruded = g.filament_mm * M_PI * printer.filament_diameter * printer.filament_diameter / 4;
+  CHECK(extruded == doctest::Approx(expected).epsilon(0.10));
+  const Parsed parsed = parse(g.text, true);
+  REQUIRE(parsed.layers.size() == 60);
+  for (std::size_t i = 0; i < 60; ++i) CHECK(parsed.layers[i].z == doctest::Approx(fine[i + 1]).epsilon(1e-6));
+}
+
+TEST_CASE("flavours: Marlin states its limits, Sailfish takes absolute E and MakerBot fan codes") {
+  Mesh box = salient::test::box(10, 10, 2);
+  PlacementOptions o;
+  place_mesh(box, o);  // centred on (0, 0): the Replicator's origin is the bed centre
+  const auto layers = generate_toolpaths(box, {0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {});
+  const std::string sailfish = write_gcode(layers, *builtin_printer("replicator2x"), {}).text;
+  CHECK(sailfish.find("M82") != std::string::npos);
+  CHECK(sailfish.find("M83") == std::string::npos);
+  CHECK(sailfish.find("M126 T0") != std::string::npos);
+  CHECK(sailfish.find("M106") == std::string::npos);
+  CHECK(sailfish.find("M204") == std::string::npos);
+  CHECK(sailfish.find("M136") != std::string::npos);  // the profile's start G-code
+  Mesh placed = salient::test::box(10, 10, 2);
+  PlacementOptions centre;
+  centre.bed_center_x = centre.bed_center_y = 100;
+  place_mesh(placed, centre);
+  const auto marlin_layers = generate_toolpaths(placed, {0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {});
+  const std::string marlin = write_gcode(marlin_layers, *builtin_printer("generic-i3"), {}).text;
+  CHECK(marlin.find("M204 P1000") != std::string::npos);
+  CHECK(marlin.find("M106 S255") != std::string::npos);
+  CHECK(marlin.find("M83") != std::string::npos);
+  CHECK(marlin.find("M190 S60") != std::string::npos);  // template filled from the profile
+  CHECK(marlin.find("{bed_temperature}") == std::string::npos);
+}
