@@ -2,7 +2,7 @@
 #   make run            install missing Debian packages, build, start salientd (for now: the CLI)
 #   make test           install, build (Release), run the whole test suite
 #   make test-sanitize  the same suite under AddressSanitizer + UndefinedBehaviorSanitizer
-#   make fuzz           build the libFuzzer targets with clang and fuzz the mesh readers
+#   make fuzz           libFuzzer (clang) on FUZZ_TARGET (mesh_reader_fuzz, gcode_fuzz, toolpath_fuzz, line_codec_fuzz)
 #   make bench          build and run the benchmarks in tests/bench
 SHELL := /bin/bash
 BUILD ?= build
@@ -11,6 +11,7 @@ BUILD_FUZZ ?= build-fuzz
 JOBS ?= $(shell nproc)
 MODELS ?= $(abspath ../shared/models)
 FUZZ_SECONDS ?= 180
+FUZZ_TARGET ?= mesh_reader_fuzz
 CMAKE_FLAGS ?=
 
 .PHONY: deps build run test test-sanitize fuzz bench format clean
@@ -41,10 +42,11 @@ test-sanitize: deps
 fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B $(BUILD_FUZZ) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DSALIENT_FUZZ=ON -DSALIENT_BENCH=OFF $(CMAKE_FLAGS)
-	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target mesh_reader_fuzz line_codec_fuzz
-	mkdir -p $(BUILD_FUZZ)/corpus/mesh && cp -n $(MODELS)/*.* $(MODELS)/invalid/* $(BUILD_FUZZ)/corpus/mesh/ 2>/dev/null || true
-	$(BUILD_FUZZ)/tests/fuzz/mesh_reader_fuzz -max_total_time=$(FUZZ_SECONDS) -max_len=65536 \
-	  -rss_limit_mb=2048 -print_final_stats=1 $(BUILD_FUZZ)/corpus/mesh
+	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target $(FUZZ_TARGET)
+	mkdir -p $(BUILD_FUZZ)/corpus/$(FUZZ_TARGET) && cp -n $(MODELS)/*.* $(MODELS)/invalid/* config/printers/* \
+	  $(BUILD_FUZZ)/corpus/$(FUZZ_TARGET)/ 2>/dev/null || true
+	$(BUILD_FUZZ)/tests/fuzz/$(FUZZ_TARGET) -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=30 \
+	  -rss_limit_mb=2048 -print_final_stats=1 $(BUILD_FUZZ)/corpus/$(FUZZ_TARGET)
 
 bench: build
 	bash tests/bench/run_benchmarks.sh $(BUILD)

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "core/common/input_error.hpp"
+#include "core/common/xml_escape.hpp"
 #include "core/export/zip_writer.hpp"
 
 namespace salient::core {
@@ -18,17 +19,6 @@ std::string num(double v) {
   return buf;
 }
 
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '&') out += "&amp;";
-    else if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '"') out += "&quot;";
-    else out += c;
-  }
-  return out;
-}
 
 }  // namespace
 

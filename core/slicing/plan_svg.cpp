@@ -2,6 +2,8 @@
 // layer's thickness (α..ᾱ), coloured thin = red to thick = blue. Right: S[k] per cell.
 #include "core/slicing/plan_svg.hpp"
 
+#include "core/common/xml_escape.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <sstream>
@@ -15,16 +17,6 @@ std::string num(double v) {
   return buf;
 }
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<') out += "&lt;";
-    else if (c == '>') out += "&gt;";
-    else if (c == '&') out += "&amp;";
-    else out += c;
-  }
-  return out;
-}
 
 }  // namespace
 
@@ -38,7 +30,7 @@ std::string plan_svg(const Objective& objective, const LayerPlan& plan, const st
   s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << W << "\" height=\"" << H << "\" viewBox=\"0 0 " << W
     << ' ' << H << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   s << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
-  s << "<text x=\"" << W / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << escape(title) << "</text>\n";
+  s << "<text x=\"" << W / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << xml_escape(title) << "</text>\n";
   // Layers.
   for (const LayerReport& l : objective.layers(plan)) {
     const double t = b > a ? std::clamp((l.height - a) / (b - a), 0.0, 1.0) : 0.0;

@@ -36,6 +36,17 @@ if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
     cat "$md"
     rm -f "$md"
   done
+  echo "== peer: model to G-code, bunny at uniform 0.1 mm (2 walls, 20 % rectilinear, 0.8 mm skins)"
+  md=$(mktemp)
+  hyperfine -N -i --warmup 1 --runs 5 --export-markdown "$md" \
+    "$build/clients/salient slice $models/stanford-bunny.obj --up y --height 80 --planner uniform --layer-height 0.1 --min-layer 0.1 --max-layer 0.3 --printer generic-i3 -o /tmp/salient_bench_ours.gcode" \
+    "prusa-slicer --export-gcode $models/stanford-bunny.obj --rotate-x -90 --scale-to-fit 300,300,80 --layer-height 0.1 --first-layer-height 0.1 --perimeters 2 --fill-density 20% --fill-pattern rectilinear --top-solid-min-thickness 0.8 --bottom-solid-min-thickness 0.8 --output /tmp/salient_bench_prusa.gcode" \
+    >/dev/null 2>&1
+  cat "$md"
+  rm -f "$md"
+  echo "== peer: our estimate of PrusaSlicer's own G-code against its estimate"
+  grep "estimated printing time (normal mode)" /tmp/salient_bench_prusa.gcode
+  "$build/clients/salient" estimate /tmp/salient_bench_prusa.gcode
 else
   echo "== peer comparison skipped: install with deploy/install-deps.sh --peers"
 fi

@@ -68,7 +68,17 @@ Parsed parse(const std::string& text, bool relative) {
   return p;
 }
 
-// A 20 × 20 × 6 mm box on the printer's bed, with layers of 0.1 … 0.3 mm.
+// A box standing at the centre of the printer's bed.
+Mesh box_on_bed(const PrinterProfile& printer, double sx, double sy, double sz) {
+  Mesh box = salient::test::box(sx, sy, sz);
+  PlacementOptions o;
+  o.bed_center_x = printer.bed_center_x();
+  o.bed_center_y = printer.bed_center_y();
+  place_mesh(box, o);
+  return box;
+}
+
+// Layers of 0.1 … 0.3 mm up to 6 mm.
 std::vector<double> variable_plan() {
   std::vector<double> z{0};
   const double steps[] = {0.2, 0.1, 0.3, 0.25, 0.15};
@@ -80,11 +90,7 @@ std::vector<double> variable_plan() {
 
 TEST_CASE("G-code follows the plan and extrudes what the layers need") {
   const PrinterProfile printer = *builtin_printer("generic-i3");
-  Mesh box = salient::test::box(20, 20, 6);
-  PlacementOptions o;
-  o.bed_center_x = printer.bed_center_x();
-  o.bed_center_y = printer.bed_center_y();
-  place_mesh(box, o);
+  const Mesh box = box_on_bed(printer, 20, 20, 6);
   const std::vector<double> z = variable_plan();
   ToolpathSettings s;
   const auto layers = generate_toolpaths(box, z, s);
@@ -144,11 +150,7 @@ TEST_CASE("flow: the cross-section of a line") {
 
 TEST_CASE("infill combined over thin layers: fewer passes, the same material") {
   const PrinterProfile printer = *builtin_printer("generic-i3");
-  Mesh box = salient::test::box(20, 20, 6);
-  PlacementOptions o;
-  o.bed_center_x = printer.bed_center_x();
-  o.bed_center_y = printer.bed_center_y();
-  place_mesh(box, o);
+  const Mesh box = box_on_bed(printer, 20, 20, 6);
   std::vector<double> z;
   for (int i = 0; i <= 60; ++i) z.push_back(i * 0.1);  // 0.1 mm layers
   ToolpathSettings every, combined;
@@ -237,11 +239,7 @@ TEST_CASE("support goes under overhangs and nowhere else") {
 
 TEST_CASE("a two-region plan prints each half at its own heights, merged by print height") {
   const PrinterProfile printer = *builtin_printer("generic-i3");
-  Mesh box = salient::test::box(20, 10, 6);
-  PlacementOptions o;
-  o.bed_center_x = printer.bed_center_x();
-  o.bed_center_y = printer.bed_center_y();
-  place_mesh(box, o);  // x from 90 to 110
+  const Mesh box = box_on_bed(printer, 20, 10, 6);  // x from 90 to 110
   std::vector<double> fine, coarse;
   for (int i = 0; i <= 60; ++i) fine.push_back(i * 0.1);
   for (int i = 0; i <= 20; ++i) coarse.push_back(i * 0.3);
@@ -283,10 +281,7 @@ TEST_CASE("flavours: Marlin states its limits, Sailfish takes absolute E and Mak
   CHECK(sailfish.find("M106") == std::string::npos);
   CHECK(sailfish.find("M204") == std::string::npos);
   CHECK(sailfish.find("M136") != std::string::npos);  // the profile's start G-code
-  Mesh placed = salient::test::box(10, 10, 2);
-  PlacementOptions centre;
-  centre.bed_center_x = centre.bed_center_y = 100;
-  place_mesh(placed, centre);
+  const Mesh placed = box_on_bed(*builtin_printer("generic-i3"), 10, 10, 2);
   const auto marlin_layers = generate_toolpaths(placed, {0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {});
   const std::string marlin = write_gcode(marlin_layers, *builtin_printer("generic-i3"), {}).text;
   CHECK(marlin.find("M204 P1000") != std::string::npos);
