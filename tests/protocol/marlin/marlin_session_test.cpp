@@ -1,0 +1,202 @@
+// MarlinSession in scripted conversations: what it writes, given what the firmware answers.
+#include <doctest/doctest.h>
+
+#include <sstream>
+
+#include "protocol/marlin/line_codec.hpp"
+#include "protocol/marlin/marlin_reply.hpp"
+#include "protocol/marlin/marlin_session.hpp"
+
+using namespace salient::protocol::marlin;
+using std::chrono::milliseconds;
+
+namespace {
+
+// The numbered commands in `output`, as (line, command), checking each checksum.
+std::vector<std::pair<long long, std::string>> sent(const std::string& output) {
+  std::vector<std::pair<long long, std::string>> out;
+  std::istringstream in(output);
+  std::string line;
+  while (std::getline(in, line)) {
+    FrameError e;
+    const FramedLine f = parse_frame(line, e);
+    REQUIRE(e == FrameError::none);
+    if (f.number) out.emplace_back(static_cast<long long>(*f.number), f.command);
+  }
+  return out;
+}
+
+const std::vector<std::string> program = {"G28 ; home", "", "G1 X10 Y10 F3000", "M104 S200", "G1 X20"};
+
+}  // namespace
+
+TEST_CASE("ping-pong: one line at a time, comments and blank lines dropped, finished at the end") {
+  MarlinSession s;
+  s.begin(program, milliseconds(0));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{0, "M110 N0"}});
+  std::vector<std::string> commands;
+  for (int i = 0; i < 5; ++i) {
+    s.on_receive("ok\n", milliseconds(10 * i));
+    for (const auto& [n, c] : sent(s.take_output())) commands.push_back(c);
+  }
+  CHECK(commands == std::vector<std::string>{"G28", "G1 X10 Y10 F3000", "M104 S200", "G1 X20"});
+  CHECK(s.state() == SessionState::finished);
+  CHECK(s.commands_done() == 4);
+  CHECK(s.commands_total() == 4);
+}
+
+TEST_CASE("ADVANCED_OK: send ahead up to the free slots, within the receive buffer") {
+  SessionConfig c;
+  c.rx_buffer_bytes = 64;
+  MarlinSession s(c);
+  std::vector<std::string> many(20, "G1 X1 Y1");
+  s.begin(many, milliseconds(0));
+  s.take_output();
+  s.on_receive("ok N0 P15 B3\n", milliseconds(1));
+  CHECK(s.advanced_ok());
+  const auto burst = sent(s.take_output());
+  CHECK(burst.size() == 3);  // B3 free slots; 3 × 18 bytes fits 64
+  s.on_receive("ok N1 P15 B16\n", milliseconds(2));  // line 1 done: lines 2 and 3 still in flight
+  const auto more = sent(s.take_output());
+  std::size_t bytes = 0;
+  for (std::size_t k = 1; k < burst.size(); ++k) bytes += frame(static_cast<std::uint64_t>(burst[k].first), burst[k].second).size() + 1;
+  for (const auto& [n, cmd] : more) bytes += frame(static_cast<std::uint64_t>(n), cmd).size() + 1;
+  CHECK(more.size() >= 1);
+  CHECK(bytes <= 64);  // never more bytes in flight than the buffer holds
+}
+
+TEST_CASE("Resend: rewind once, ignore the repeats, keep going, nothing lost or doubled") {
+  MarlinSession s;
+  s.begin({"G1 X1", "G1 X2", "G1 X3", "G1 X4"}, milliseconds(0));
+  s.take_output();
+  s.on_receive("ok N0 P15 B4\n", milliseconds(1));  // lines 1..4 go out
+  CHECK(sent(s.take_output()).size() == 4);
+  s.on_receive("ok N1 P15 B3\n", milliseconds(2));  // line 1 done; line 2 arrived corrupted:
+  s.on_receive("Error:checksum mismatch, Last Line: 1\nResend: 2\nok\n", milliseconds(3));
+  const auto again = sent(s.take_output());
+  REQUIRE(!again.empty());
+  CHECK(again.front() == std::pair<long long, std::string>{2, "G1 X2"});
+  // Lines 3 and 4 were discarded by the firmware and each draws the same request: ignored.
+  s.on_receive("Error:Line Number is not Last Line Number+1, Last Line: 1\nResend: 2\nok\n", milliseconds(4));
+  s.on_receive("Error:Line Number is not Last Line Number+1, Last Line: 1\nResend: 2\nok\n", milliseconds(5));
+  std::vector<std::pair<long long, std::string>> all = again;
+  for (const auto& x : sent(s.take_output())) all.push_back(x);
+  CHECK(all == std::vector<std::pair<long long, std::string>>{{2, "G1 X2"}, {3, "G1 X3"}, {4, "G1 X4"}});
+  for (int i = 0; i < 3; ++i) s.on_receive("ok\n", milliseconds(10 + i));
+  CHECK(s.commands_done() == 4);
+  CHECK(s.state() == SessionState::finished);
+}
+
+TEST_CASE("a line rejected again and again ends the print with a reason") {
+  MarlinSession s;
+  s.begin({"G1 X1"}, milliseconds(0));
+  s.take_output();
+  s.on_receive("ok\n", milliseconds(1));
+  s.take_output();
+  for (int i = 0; i < 6; ++i) {
+    s.on_receive("Error:checksum mismatch\nResend: 1\nok\n", milliseconds(2 + i));
+    s.take_output();
+  }
+  CHECK(s.state() == SessionState::failed);
+  bool said = false;
+  for (const auto& e : s.take_events())
+    if (e.kind == SessionEvent::Kind::failed) said = e.text.find("rejected 5 times") != std::string::npos;
+  CHECK(said);
+}
+
+TEST_CASE("firmware that sends no ok after Resend") {
+  SessionConfig c;
+  c.ok_after_resend = false;
+  MarlinSession s(c);
+  s.begin({"G1 X1", "G1 X2"}, milliseconds(0));
+  s.take_output();
+  s.on_receive("ok\n", milliseconds(1));
+  s.take_output();  // line 1
+  s.on_receive("Resend: 1\n", milliseconds(2));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{1, "G1 X1"}});
+  s.on_receive("ok\nok\n", milliseconds(3));
+  CHECK(s.commands_done() == 2);
+}
+
+TEST_CASE("silence: a poke after the timeout, busy extends it, the poke's ok settles lost oks") {
+  SessionConfig c;
+  c.reply_timeout = milliseconds(1000);
+  c.busy_timeout = milliseconds(5000);
+  MarlinSession s(c);
+  s.begin({"M109 S200", "G1 X1"}, milliseconds(0));
+  s.on_receive("ok\n", milliseconds(10));  // M110 done, M109 sent
+  s.take_output();
+  s.on_receive("echo:busy: processing\n", milliseconds(900));
+  s.on_tick(milliseconds(2000));
+  CHECK(s.take_output().empty());  // busy: still waiting
+  s.on_tick(milliseconds(6000));
+  const auto poke = sent(s.take_output());
+  REQUIRE(poke.size() == 1);
+  CHECK(poke[0].second == "M105");
+  s.on_receive("ok T:200.0 /200.0 B:60.0 /60.0 @:0 B@:0\n", milliseconds(6100));  // the M109 ok was lost
+  CHECK(s.commands_done() == 1);
+  const auto next = sent(s.take_output());
+  REQUIRE(next.size() == 1);
+  CHECK(next[0].second == "G1 X1");
+}
+
+TEST_CASE("a reset or a fatal error ends the print, other errors are reported") {
+  MarlinSession s;
+  s.begin({"G1 X1", "G1 X2"}, milliseconds(0));
+  s.on_receive("Error:Printer halted. kill() called!\n", milliseconds(1));
+  CHECK(s.state() == SessionState::failed);
+  MarlinSession r;
+  r.begin({"G1 X1"}, milliseconds(0));
+  r.on_receive("start\n", milliseconds(1));
+  CHECK(r.state() == SessionState::failed);
+  MarlinSession e;
+  e.begin({"G1 X1"}, milliseconds(0));
+  e.on_receive("Error:Unknown command: \"G999\"\n", milliseconds(1));
+  CHECK(e.state() == SessionState::printing);
+}
+
+TEST_CASE("pause, resume, cancel and emergency stop") {
+  MarlinSession s;
+  s.begin({"G1 X1", "G1 X2", "G1 X3"}, milliseconds(0));
+  s.take_output();
+  s.pause();
+  s.on_receive("ok\n", milliseconds(1));
+  CHECK(sent(s.take_output()).empty());  // paused: nothing more goes out
+  s.resume(milliseconds(2));
+  CHECK(sent(s.take_output()).size() == 1);
+  s.cancel({"M104 S0", "M140 S0 ; heaters off"}, milliseconds(3));
+  s.on_receive("ok\n", milliseconds(4));
+  auto cleanup = sent(s.take_output());
+  REQUIRE(cleanup.size() == 1);
+  CHECK(cleanup[0].second == "M104 S0");
+  CHECK(s.state() == SessionState::cancelled);
+  s.emergency_stop();
+  CHECK(s.take_output() == "M112\n");
+  CHECK(s.state() == SessionState::failed);
+}
+
+TEST_CASE("replies: temperatures, firmware, capabilities, host actions, split across reads") {
+  MarlinReply t = parse_reply(" T:210.5 /215.0 B:60.2 /60.0 @:127 B@:0");
+  CHECK(t.kind == ReplyKind::temperature);
+  CHECK(*t.temperatures.hotend == 210.5);
+  CHECK(*t.temperatures.hotend_target == 215.0);
+  CHECK(*t.temperatures.bed == doctest::Approx(60.2));
+  CHECK(*t.temperatures.bed_target == 60.0);
+  MarlinReply f = parse_reply("FIRMWARE_NAME:Marlin 2.1.2 (Jan 1 2024) SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin");
+  CHECK(f.name == "Marlin 2.1.2 (Jan 1 2024)");
+  MarlinReply cap = parse_reply("Cap:EMERGENCY_PARSER:1");
+  CHECK(cap.kind == ReplyKind::capability);
+  CHECK(cap.name == "EMERGENCY_PARSER");
+  CHECK(cap.enabled);
+  CHECK(parse_reply("//action:pause").name == "pause");
+  CHECK(parse_reply("rs N7").line == 7);
+  CHECK(parse_reply("Error:Thermal Runaway, system stopped! Heater_ID: 0").fatal);
+  MarlinSession s;
+  s.begin({"G1 X1"}, milliseconds(0));
+  s.on_receive("o", milliseconds(1));
+  s.on_receive("k\nT:20", milliseconds(2));
+  s.on_receive("0.0 /200.0\n", milliseconds(3));
+  bool temps = false;
+  for (const auto& e : s.take_events()) temps = temps || (e.kind == SessionEvent::Kind::temperatures && *e.temperatures.hotend == 200.0);
+  CHECK(temps);
+}
