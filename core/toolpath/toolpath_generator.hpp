@@ -13,7 +13,7 @@ namespace salient::core {
 // `boundaries_z` are the layer boundaries in mm, from 0 to the model's height. Each layer is
 // cut at its mid-height; walls are inset from the section, the rest is solid where a top or
 // bottom surface is nearer than the skin thickness (in mm, over however many layers that is),
-// sparse elsewhere. Parallel over layers would change nothing but time: sections are one sweep.
+// sparse elsewhere. Sections are one sweep; layers are then built in parallel (TBB).
 std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vector<double>& boundaries_z,
                                                const ToolpathSettings& settings, const RunContext& run = {});
 
