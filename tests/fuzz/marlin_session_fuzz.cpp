@@ -1,8 +1,10 @@
 // Fuzz target for the Marlin host session: arbitrary bytes from the "firmware", cut into reads,
-// with time passing. It must not crash, every line it sends must frame correctly, and it must
-// never count more commands done than it was given.
+// with time passing. It must not crash, every line it sends must frame correctly, it must never
+// count more commands done than it was given, and it must never send a line number again unless
+// a Resend request for that line or an earlier one came in since.
 #include <cstdint>
 #include <cstdlib>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -11,29 +13,57 @@
 
 using namespace salient::protocol::marlin;
 
+namespace {
+
+struct Checker {
+  std::map<long long, bool> may_send_again;  // line number → a resend request covers it
+
+  void check(MarlinSession& s) {
+    for (const SessionEvent& e : s.take_events())
+      if (e.kind == SessionEvent::Kind::resend)
+        for (auto it = may_send_again.lower_bound(e.line); it != may_send_again.end(); ++it) it->second = true;
+    std::istringstream out(s.take_output());
+    for (std::string line; std::getline(out, line);) {
+      if (line == "M112") continue;
+      FrameError error;
+      const FramedLine f = parse_frame(line, error);
+      if (error != FrameError::none || !f.number) std::abort();
+      const long long n = static_cast<long long>(*f.number);
+      auto [it, first] = may_send_again.try_emplace(n, false);
+      if (!first && !it->second) std::abort();  // sent twice without a resend request
+      it->second = false;
+    }
+    if (s.commands_done() > s.commands_total()) std::abort();
+  }
+};
+
+}  // namespace
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   SessionConfig config;
   config.reply_timeout = std::chrono::milliseconds(50);
+  config.resend_ok_wait = std::chrono::milliseconds(20);
   MarlinSession s(config);
-  s.begin({"G28", "G1 X10 Y10 F3000", "M104 S200", "G1 X20 E1", "M105"}, Millis(0));
+  Checker checker;
+  s.begin({"G28", "G1 X10 Y10 F3000", "M104 S200", "G1 X20 E1", "M105", "G1 X1", "G1 X2", "G1 X3"}, Millis(0));
+  checker.check(s);
   std::size_t at = 0;
   long long now = 0;
   while (at < size) {
     const std::size_t chunk = 1 + data[at] % 32;
-    const std::string_view bytes(reinterpret_cast<const char*>(data) + at + 1, std::min(chunk, size - at - 1));
+    std::string_view bytes(reinterpret_cast<const char*>(data) + at + 1, std::min(chunk, size - at - 1));
     at += 1 + bytes.size();
     now += data[at - 1] % 100;
-    s.on_receive(bytes, Millis(now));
-    s.on_tick(Millis(now));
-    std::istringstream out(s.take_output());
-    for (std::string line; std::getline(out, line);) {
-      if (line == "M112") continue;
-      FrameError e;
-      parse_frame(line, e);
-      if (e != FrameError::none) std::abort();
+    // One reply line per call, so that a Resend's event comes before the lines it makes us send.
+    while (!bytes.empty()) {
+      const std::size_t nl = bytes.find('\n');
+      const std::size_t take = nl == std::string_view::npos ? bytes.size() : nl + 1;
+      s.on_receive(bytes.substr(0, take), Millis(now));
+      bytes.remove_prefix(take);
+      checker.check(s);
     }
-    s.take_events();
-    if (s.commands_done() > s.commands_total()) std::abort();
+    s.on_tick(Millis(now));
+    checker.check(s);
   }
   return 0;
 }

@@ -82,7 +82,11 @@ TEST_CASE("Resend: rewind once, ignore the repeats, keep going, nothing lost or 
   std::vector<std::pair<long long, std::string>> all = again;
   for (const auto& x : sent(s.take_output())) all.push_back(x);
   CHECK(all == std::vector<std::pair<long long, std::string>>{{2, "G1 X2"}, {3, "G1 X3"}, {4, "G1 X4"}});
-  for (int i = 0; i < 3; ++i) s.on_receive("ok\n", milliseconds(10 + i));
+  s.on_receive("ok N2 P15 B3\n", milliseconds(10));
+  CHECK(s.commands_done() == 2);
+  s.on_receive("ok\n", milliseconds(11));  // ADVANCED_OK firmware's plain ok: acknowledges nothing
+  CHECK(s.commands_done() == 2);
+  s.on_receive("ok N4 P15 B3\n", milliseconds(12));  // line 3's ok was lost: N4 settles both
   CHECK(s.commands_done() == 4);
   CHECK(s.state() == SessionState::finished);
 }
@@ -106,7 +110,7 @@ TEST_CASE("a line rejected again and again ends the print with a reason") {
 
 TEST_CASE("firmware that sends no ok after Resend") {
   SessionConfig c;
-  c.ok_after_resend = false;
+  c.ok_after_resend = SessionConfig::OkAfterResend::no;
   MarlinSession s(c);
   s.begin({"G1 X1", "G1 X2"}, milliseconds(0));
   s.take_output();
@@ -116,6 +120,63 @@ TEST_CASE("firmware that sends no ok after Resend") {
   CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{1, "G1 X1"}});
   s.on_receive("ok\nok\n", milliseconds(3));
   CHECK(s.commands_done() == 2);
+}
+
+TEST_CASE("ping-pong: the ok after a Resend is waited for, and its absence is learnt") {
+  SessionConfig c;
+  c.resend_ok_wait = milliseconds(100);
+  MarlinSession s(c);
+  std::vector<std::string> program(6, "G1 X1");
+  s.begin(program, milliseconds(0));
+  s.take_output();
+  s.on_receive("ok\n", milliseconds(1));
+  s.take_output();  // line 1
+  // Marlin's order: Resend, then ok. The resent line waits for that ok, which acknowledges nothing.
+  s.on_receive("Error:checksum mismatch, Last Line: 0\nResend: 1\n", milliseconds(2));
+  CHECK(sent(s.take_output()).empty());
+  s.on_receive("ok\n", milliseconds(3));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{1, "G1 X1"}});
+  CHECK(s.commands_done() == 0);
+  s.on_receive("ok\n", milliseconds(4));
+  CHECK(s.commands_done() == 1);
+}
+
+TEST_CASE("ping-pong: a firmware that sends no ok after Resend is learnt after two requests") {
+  SessionConfig c;
+  c.resend_ok_wait = milliseconds(100);
+  MarlinSession s(c);
+  std::vector<std::string> program(6, "G1 X1");
+  s.begin(program, milliseconds(0));
+  s.on_receive("ok\n", milliseconds(1));
+  s.take_output();  // line 1
+  for (int round = 0; round < 2; ++round) {
+    const long long line = 1 + round;
+    const Millis t = milliseconds(1000 * (round + 1));
+    s.on_receive("Error:checksum mismatch\nResend: " + std::to_string(line) + "\n", t);
+    CHECK(sent(s.take_output()).empty());
+    s.on_tick(t + milliseconds(100));  // no ok came: the line goes anyway
+    CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{line, "G1 X1"}});
+    s.on_receive("ok\n", t + milliseconds(101));
+    s.take_output();
+  }
+  CHECK(s.commands_done() == 2);
+  // Twice without an ok and never one seen: from now on the resent line goes at once.
+  s.on_receive("Error:checksum mismatch\nResend: 3\n", milliseconds(5000));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{3, "G1 X1"}});
+}
+
+TEST_CASE("a checksum error on the resent line is not taken for a repeat") {
+  MarlinSession s;
+  s.begin({"G1 X1", "G1 X2", "G1 X3"}, milliseconds(0));
+  s.take_output();
+  s.on_receive("ok N0 P15 B3\n", milliseconds(1));  // lines 1..3 go out
+  CHECK(sent(s.take_output()).size() == 3);
+  s.on_receive("Error:checksum mismatch, Last Line: 0\nResend: 1\nok\n", milliseconds(2));
+  CHECK(sent(s.take_output()).size() == 3);  // 1..3 again; lines 2 and 3 will draw repeats
+  s.on_receive("Error:Line Number is not Last Line Number+1, Last Line: 0\nResend: 1\nok\n", milliseconds(3));
+  CHECK(sent(s.take_output()).empty());  // a repeat
+  s.on_receive("Error:checksum mismatch, Last Line: 0\nResend: 1\nok\n", milliseconds(4));
+  CHECK(sent(s.take_output()).size() == 3);  // the resent line 1 itself failed: genuine
 }
 
 TEST_CASE("silence: a poke after the timeout, busy extends it, the poke's ok settles lost oks") {
