@@ -25,5 +25,6 @@ void add_saliency_command(CLI::App& app, CommandAction& action);
 void add_estimate_command(CLI::App& app, CommandAction& action);
 void add_slice_command(CLI::App& app, CommandAction& action);
 void add_export_command(CLI::App& app, CommandAction& action);
+void add_print_command(CLI::App& app, CommandAction& action);
 
 }  // namespace salient::cli

@@ -5,6 +5,7 @@
 
 #include "clients/cli/commands.hpp"
 #include "core/common/input_error.hpp"
+#include "protocol/serial/transport.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"salient: saliency-preserving adaptive slicing for FDM printers"};
@@ -18,6 +19,7 @@ int main(int argc, char** argv) {
   salient::cli::add_estimate_command(app, action);
   salient::cli::add_slice_command(app, action);
   salient::cli::add_export_command(app, action);
+  salient::cli::add_print_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -25,6 +27,9 @@ int main(int argc, char** argv) {
   }
   try {
     return action ? action() : 0;
+  } catch (const salient::protocol::serial::LinkError& e) {
+    std::fprintf(stderr, "salient: error: %s\n", e.what());
+    return 4;
   } catch (const salient::core::InputError& e) {
     std::fprintf(stderr, "salient: error: %s\n", e.what());
     return 1;

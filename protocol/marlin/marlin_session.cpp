@@ -141,12 +141,16 @@ void MarlinSession::handle_ok(const MarlinReply& r, Millis now) {
   }
   if (r.line) {  // ADVANCED_OK: line N and every line before it are done
     while (!in_flight_.empty() && in_flight_.front().line <= *r.line) acknowledge(now);
-  } else if (r.temperatures.hotend) {  // M105's reply: done up to the first M105 in flight
-    const auto m105 = std::find_if(in_flight_.begin(), in_flight_.end(), [](const InFlight& f) { return f.reports_temperature; });
-    if (m105 != in_flight_.end()) {
-      const long long through = m105->line;
-      while (!in_flight_.empty() && in_flight_.front().line <= through) acknowledge(now);
+  } else if (r.temperatures.hotend) {
+    // M105's reply: done up to the first M105 in flight. While pokes are out nothing else is
+    // sent, so a reply to any poke settles them all: the first one's reply may be the lost one.
+    long long through = -1;
+    for (const InFlight& f : in_flight_) {
+      if (!f.reports_temperature) continue;
+      through = f.line;
+      if (!synchronising_) break;
     }
+    while (!in_flight_.empty() && in_flight_.front().line <= through) acknowledge(now);
   } else if (resend_oks_due_ > 0) {
     seen_ok_after_resend_ = true;
     if (--resend_oks_due_ == 0) resend_ok_deadline_ = Millis::max();
@@ -173,6 +177,10 @@ void MarlinSession::handle_resend(long long line, Millis now) {
     return;
   }
   auto it = sent_.find(line);
+  if (it == sent_.end() && line == next_line_) {  // it wants the line that goes next: nothing to rewind
+    while (!in_flight_.empty() && in_flight_.back().line >= line) in_flight_.pop_back();
+    return;
+  }
   if (it == sent_.end()) {
     fail("the printer asked for line " + std::to_string(line) + ", which was never sent or is too old");
     return;

@@ -64,6 +64,7 @@ class MarlinSession {
   std::vector<SessionEvent> take_events();
   Millis deadline() const { return std::min(reply_deadline_, resend_ok_deadline_); }
   SessionState state() const { return state_; }
+  bool idle() const { return queue_.empty() && in_flight_.empty(); }  // nothing left to send or confirm
   std::size_t commands_done() const { return done_; }
   std::size_t commands_total() const { return total_; }
   bool advanced_ok() const { return advanced_ok_; }

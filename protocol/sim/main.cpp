@@ -1,14 +1,140 @@
-// salient-sim: a simulated Marlin printer behind a pseudo-terminal (Step 5 builds it out).
+// salient-sim: a Marlin-like printer behind a pseudo-terminal, for tests, demos and benchmarks.
+// Prints the device path (and links it to --link PATH), then serves until SIGINT/SIGTERM, or until
+// a disconnect fault pulls the cable. --log FILE gets every executed command, in order.
+#include <poll.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <chrono>
 #include <cstdio>
-#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <stdexcept>
+
+#include "protocol/sim/pseudo_terminal.hpp"
+#include "protocol/sim/sim_firmware.hpp"
+
+namespace {
+
+volatile sig_atomic_t stop_requested = 0;
+void on_signal(int) { stop_requested = 1; }
+
+using salient::protocol::sim::Micros;
+
+struct Options {
+  salient::protocol::sim::SimConfig config;
+  std::string faults, log_path, link_path, stats_path;
+  int bufsize = 4;
+};
+
+void write_stats(const std::string& path, const salient::protocol::sim::SimStats& s, const char* end) {
+  if (path.empty()) return;
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  if (!f) return;
+  std::fprintf(f,
+               "{\"executed\": %lld, \"lines_received\": %lld, \"lines_rejected\": %lld, \"lines_corrupted\": %lld, "
+               "\"rx_overflow_bytes\": %lld, \"oks_dropped\": %lld, \"lines_after_halt\": %lld, \"end\": \"%s\"}\n",
+               s.executed, s.lines_received, s.lines_rejected, s.lines_corrupted, s.rx_overflow_bytes, s.oks_dropped,
+               s.lines_after_halt, end);
+  std::fclose(f);
+}
+
+int serve(Options& o) {
+  using namespace salient::protocol::sim;
+  o.config.bufsize = static_cast<std::size_t>(o.bufsize);
+  o.config.faults = parse_faults(o.faults);
+  std::FILE* log = nullptr;
+  if (!o.log_path.empty() && !(log = std::fopen(o.log_path.c_str(), "w")))
+    throw std::runtime_error("--log: cannot write " + o.log_path);
+  PseudoTerminal pty;
+  if (!o.link_path.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(o.link_path, ec);
+    std::filesystem::create_symlink(pty.device_path(), o.link_path);
+  }
+  std::printf("%s\n", pty.device_path().c_str());
+  std::fflush(stdout);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  auto now = [&] { return std::chrono::duration_cast<Micros>(std::chrono::steady_clock::now() - t0); };
+  SimFirmware fw(o.config);
+  fw.boot(now());
+  std::string pending;
+  bool log_dirty = false;
+  const char* end = "stopped";
+  while (!stop_requested) {
+    Micros t = now();
+    fw.advance(t);
+    pending += fw.take_output(t);
+    if (!pending.empty()) pending.erase(0, pty.write_some(pending));
+    for (const std::string& c : fw.take_executed()) {
+      if (log) std::fputs(c.c_str(), log), std::fputc('\n', log);
+      log_dirty = true;
+    }
+    if (fw.state() == SimFirmware::State::disconnected) {
+      end = "disconnected";
+      break;
+    }
+    const Micros wake = fw.next_wakeup();
+    long long wait_us = wake == Micros::max() ? 200000 : std::max<long long>(0, (wake - now()).count());
+    wait_us = std::min<long long>(wait_us, 200000);
+    pollfd p{pty.descriptor(), static_cast<short>(POLLIN | (pending.empty() ? 0 : POLLOUT)), 0};
+    if (log_dirty && wait_us > 0 && ::poll(&p, 1, 0) == 0) {  // idle: make the log readable now
+      if (log) std::fflush(log);
+      log_dirty = false;
+    }
+    const timespec ts{static_cast<time_t>(wait_us / 1000000), static_cast<long>(wait_us % 1000000) * 1000};
+    if (::ppoll(&p, 1, &ts, nullptr) < 0 && errno != EINTR) throw std::runtime_error("poll failed");
+    if (p.revents & POLLIN) fw.receive(pty.read_available(), now());
+  }
+  pty.close();
+  if (log) std::fclose(log);
+  if (!o.link_path.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(o.link_path, ec);
+  }
+  if (fw.state() == SimFirmware::State::halted) end = "halted";
+  write_stats(o.stats_path, fw.stats(), end);
+  std::fprintf(stderr, "salient-sim: %s after %lld commands (%lld lines rejected, %lld corrupted, %lld oks dropped)\n", end,
+               fw.stats().executed, fw.stats().lines_rejected, fw.stats().lines_corrupted, fw.stats().oks_dropped);
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--version") == 0) {
-      std::printf("salient-sim 0.1.0\n");
-      return 0;
-    }
+  CLI::App app{"salient-sim: a simulated Marlin printer on a pseudo-terminal"};
+  Options o;
+  auto& c = o.config;
+  app.add_option("--rx-buffer", c.rx_buffer_bytes, "receive buffer in bytes (Marlin RX_BUFFER_SIZE)")->capture_default_str();
+  app.add_option("--bufsize", o.bufsize, "command queue slots (BUFSIZE)")->check(CLI::IsMember({4, 16}))->capture_default_str();
+  app.add_option("--planner-blocks", c.planner_blocks, "planner moves (BLOCK_BUFFER_SIZE)")->capture_default_str();
+  app.add_flag("--advanced-ok", c.advanced_ok, "answer \"ok N<line> P<planner> B<queue>\"");
+  app.add_flag("--emergency-parser", c.emergency_parser, "act on M108/M112/M410 as they arrive");
+  app.add_flag("--autoreport", c.autoreport, "support M155 temperature auto-report");
+  app.add_option("--baud", c.baud, "emulated line speed in bits per second (0: no limit)")->capture_default_str();
+  app.add_option("--time-scale", c.time_scale, "wall seconds per printer second for moves (0: instant)")->capture_default_str();
+  app.add_option("--heat-time-scale", c.heat_time_scale, "the same for heating (default: --time-scale)");
+  app.add_option("--faults", o.faults,
+                 "e.g. noise=0.02,drop-ok=0.01,resend-without-ok,disconnect-after=5000,reset-after=N,thermal-runaway-at=N,seed=N");
+  app.add_option("--log", o.log_path, "write every executed command to FILE");
+  app.add_option("--link", o.link_path, "make PATH a symbolic link to the device");
+  app.add_option("--stats", o.stats_path, "write counters as JSON to FILE on exit");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
   }
-  std::fprintf(stderr, "salient-sim: not yet: the simulated printer arrives with the printer link (step 5)\n");
-  return 2;
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  ::sigaction(SIGINT, &sa, nullptr);
+  ::sigaction(SIGTERM, &sa, nullptr);
+  ::signal(SIGPIPE, SIG_IGN);
+  try {
+    return serve(o);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "salient-sim: error: %s\n", e.what());
+    return 1;
+  }
 }

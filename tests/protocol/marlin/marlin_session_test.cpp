@@ -261,3 +261,22 @@ TEST_CASE("replies: temperatures, firmware, capabilities, host actions, split ac
   for (const auto& e : s.take_events()) temps = temps || (e.kind == SessionEvent::Kind::temperatures && *e.temperatures.hotend == 200.0);
   CHECK(temps);
 }
+
+TEST_CASE("a poke whose own ok is lost: the next poke's reply settles both, nothing stays in flight") {
+  SessionConfig c;
+  c.reply_timeout = milliseconds(100);
+  MarlinSession s(c);
+  s.begin({"G1 X1", "G1 X2"}, milliseconds(0));
+  s.on_receive("ok\n", milliseconds(1));
+  s.take_output();                  // line 1 goes; its ok is lost
+  s.on_tick(milliseconds(200));     // poke 1 (line 2); its ok is lost too
+  s.on_tick(milliseconds(400));     // poke 2 (line 3)
+  const auto pokes = sent(s.take_output());
+  REQUIRE(pokes.size() == 2);
+  s.on_receive("ok T:200.0 /200.0 B:60.0 /60.0 @:0 B@:0\n", milliseconds(401));
+  CHECK(s.commands_done() == 1);
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{4, "G1 X2"}});
+  s.on_receive("ok\n", milliseconds(402));
+  CHECK(s.state() == SessionState::finished);
+  CHECK(s.pokes_sent() == 2);
+}

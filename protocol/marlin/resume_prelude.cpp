@@ -1,0 +1,90 @@
+#include "protocol/marlin/resume_prelude.hpp"
+
+#include <charconv>
+#include <cstdio>
+#include <optional>
+#include <string_view>
+
+#include "protocol/marlin/line_codec.hpp"
+
+namespace salient::protocol::marlin {
+namespace {
+
+std::optional<double> word(std::string_view c, char letter) {
+  for (std::size_t at = c.find(' '); at != std::string_view::npos; at = c.find(' ', at + 1)) {
+    if (at + 1 >= c.size() || c[at + 1] != letter) continue;
+    double v = 0;
+    const auto [ptr, ec] = std::from_chars(c.data() + at + 2, c.data() + c.size(), v);
+    return ec == std::errc() && ptr != c.data() + at + 2 ? std::optional<double>(v) : std::optional<double>(0.0);
+  }
+  return std::nullopt;
+}
+
+std::string num(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.5g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<std::string> resume_prelude(const std::vector<std::string>& gcode, std::size_t resume_from) {
+  double hotend = 0, bed = 0, fan = 0, feed = 0;
+  double pos[4] = {0, 0, 0, 0};
+  bool relative = false, relative_e = false, inches = false;
+  static constexpr char axes[4] = {'X', 'Y', 'Z', 'E'};
+  std::size_t seen = 0;
+  for (const std::string& line : gcode) {
+    if (seen >= resume_from) break;
+    const std::string c = strip_comment(line);
+    if (c.empty()) continue;
+    ++seen;
+    const std::string_view code = std::string_view(c).substr(0, c.find(' '));
+    if (code == "M104" || code == "M109") hotend = word(c, 'S').value_or(word(c, 'R').value_or(hotend));
+    else if (code == "M140" || code == "M190") bed = word(c, 'S').value_or(word(c, 'R').value_or(bed));
+    else if (code == "M106") fan = word(c, 'S').value_or(255);
+    else if (code == "M107") fan = 0;
+    else if (code == "G90") relative = false;
+    else if (code == "G91") relative = true;
+    else if (code == "M82") relative_e = false;
+    else if (code == "M83") relative_e = true;
+    else if (code == "G20") inches = true;
+    else if (code == "G21") inches = false;
+    else if (code == "G92") {
+      for (int i = 0; i < 4; ++i)
+        if (auto v = word(c, axes[i])) pos[i] = *v;
+    } else if (code == "G28") {
+      bool any = false;
+      for (int i = 0; i < 3; ++i) any = any || word(c, axes[i]).has_value();
+      for (int i = 0; i < 3; ++i)
+        if (!any || word(c, axes[i])) pos[i] = 0;
+    } else if (code == "G0" || code == "G1" || code == "G2" || code == "G3") {
+      for (int i = 0; i < 4; ++i) {
+        const auto v = word(c, axes[i]);
+        if (!v) continue;
+        const bool rel = i == 3 ? relative || relative_e : relative;
+        pos[i] = rel ? pos[i] + *v : *v;
+      }
+      if (auto f = word(c, 'F')) feed = *f;
+    }
+  }
+  std::vector<std::string> out;
+  if (bed > 0) out.push_back("M140 S" + num(bed));
+  if (hotend > 0) out.push_back("M104 S" + num(hotend));
+  if (bed > 0) out.push_back("M190 S" + num(bed));
+  if (hotend > 0) out.push_back("M109 S" + num(hotend));
+  out.push_back(inches ? "G20" : "G21");
+  out.push_back("G90");
+  out.push_back(relative_e ? "M83" : "M82");
+  out.push_back("G92 E" + num(pos[3]));
+  out.push_back(fan > 0 ? "M106 S" + num(fan) : "M107");
+  // Over the part first, then down onto it: never through it.
+  out.push_back("G1 Z" + num(pos[2] + 1) + " F600");
+  out.push_back("G1 X" + num(pos[0]) + " Y" + num(pos[1]) + " F6000");
+  out.push_back("G1 Z" + num(pos[2]) + " F600");
+  if (feed > 0) out.push_back("G1 F" + num(feed));
+  if (relative) out.push_back("G91");
+  return out;
+}
+
+}  // namespace salient::protocol::marlin

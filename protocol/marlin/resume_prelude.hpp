@@ -1,0 +1,16 @@
+// resume_prelude: what to send before command `resume_from` of a print so that a printer that lost
+// the link (and maybe its state) carries on where the file left it.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace salient::protocol::marlin {
+
+// Temperatures (set, then waited for), units and positioning modes, the fan, the extruder
+// position (G92 E), the head back at its last X Y and Z, and the feed rate, as the first
+// `resume_from` commands of `gcode` left them. Comments and blank lines do not count.
+std::vector<std::string> resume_prelude(const std::vector<std::string>& gcode, std::size_t resume_from);
+
+}  // namespace salient::protocol::marlin

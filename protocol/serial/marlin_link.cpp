@@ -1,0 +1,105 @@
+#include "protocol/serial/marlin_link.hpp"
+
+#include <algorithm>
+
+#include "protocol/marlin/marlin_reply.hpp"
+
+namespace salient::protocol::serial {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using marlin::Millis;
+
+// Sends an unnumbered command and collects the reply up to its ok; empty on timeout.
+std::vector<marlin::MarlinReply> exchange(Transport& t, const std::string& command, std::chrono::milliseconds timeout) {
+  t.write(command + "\n");
+  std::vector<marlin::MarlinReply> replies;
+  std::string partial;
+  const auto until = Clock::now() + timeout;
+  while (Clock::now() < until) {
+    partial += t.read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
+    for (std::size_t nl; (nl = partial.find('\n')) != std::string::npos;) {
+      replies.push_back(marlin::parse_reply(std::string_view(partial).substr(0, nl)));
+      partial.erase(0, nl + 1);
+      if (replies.back().kind == marlin::ReplyKind::ok) return replies;
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
+MarlinLink::MarlinLink(std::unique_ptr<Transport> transport, LinkConfig config)
+    : transport_(std::move(transport)), config_(std::move(config)) {}
+
+FirmwareInfo MarlinLink::handshake() {
+  transport_->discard_input();
+  transport_->write("\n");  // ends whatever half line the firmware may hold
+  for (int attempt = 0; attempt < config_.handshake_attempts; ++attempt) {
+    const auto replies = exchange(*transport_, "M115", config_.handshake_timeout);
+    if (replies.empty()) continue;
+    for (const auto& r : replies) {
+      if (r.kind == marlin::ReplyKind::firmware) firmware_.name = r.name;
+      if (r.kind == marlin::ReplyKind::capability && r.name == "EMERGENCY_PARSER") firmware_.emergency_parser = r.enabled;
+      if (r.kind == marlin::ReplyKind::capability && r.name == "AUTOREPORT_TEMP") firmware_.autoreport_temperature = r.enabled;
+    }
+    if (firmware_.autoreport_temperature && config_.autoreport_seconds > 0)
+      exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout);
+    return firmware_;
+  }
+  throw LinkError(transport_->describe() + ": no answer to M115 after " + std::to_string(config_.handshake_attempts) +
+                  " tries: is it a Marlin printer, and is the baud rate right?");
+}
+
+PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
+                              const std::function<void(const marlin::SessionEvent&)>& on_event, std::size_t resume_from,
+                              const std::vector<std::string>& prelude) {
+  using marlin::SessionState;
+  const auto t0 = Clock::now();
+  auto now = [&] { return std::chrono::duration_cast<Millis>(Clock::now() - t0); };
+  marlin::MarlinSession session(config_.session);
+  request_ = kNone;
+  session.begin(gcode, now(), resume_from, prelude);
+  PrintResult result;
+  auto finish = [&] {
+    result.state = session.state();
+    result.confirmed = session.commands_done();
+    result.total = session.commands_total();
+    result.lines_resent = session.lines_resent();
+    result.pokes = session.pokes_sent();
+    result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    return result;
+  };
+  try {
+    for (;;) {
+      switch (request_.exchange(kNone)) {
+        case kPause: session.pause(); break;
+        case kResume: session.resume(now()); break;
+        case kCancel: session.cancel(config_.cancel_gcode, now()); break;
+        case kEmergency: session.emergency_stop(); break;
+        default: break;
+      }
+      if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
+      for (const marlin::SessionEvent& e : session.take_events()) {
+        if (e.kind == marlin::SessionEvent::Kind::failed) result.reason = e.text;
+        if (on_event) on_event(e);
+      }
+      const SessionState s = session.state();
+      if (s == SessionState::finished || s == SessionState::failed || (s == SessionState::cancelled && session.idle()))
+        return finish();
+      // Wake for the session's next deadline, and at least every 50 ms for requests.
+      const Millis left = std::clamp(session.deadline() - now(), Millis(0), Millis(50));
+      const std::string bytes = transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(left));
+      if (!bytes.empty()) session.on_receive(bytes, now());
+      session.on_tick(now());
+    }
+  } catch (const LinkError& e) {
+    result.disconnected = true;
+    result.reason = e.what();
+    finish();
+    result.state = SessionState::failed;
+    return result;
+  }
+}
+
+}  // namespace salient::protocol::serial

@@ -1,0 +1,67 @@
+// MarlinLink: drives a MarlinSession over a Transport on the calling thread: the handshake
+// (M115: firmware name and capabilities), then a print, until it is finished, failed, cancelled
+// or the link drops. pause/resume/cancel/emergency_stop may be called from any other thread.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "protocol/marlin/marlin_session.hpp"
+#include "protocol/serial/transport.hpp"
+
+namespace salient::protocol::serial {
+
+struct LinkConfig {
+  marlin::SessionConfig session;
+  std::chrono::milliseconds handshake_timeout{2000};  // per attempt; a board may still be booting
+  int handshake_attempts = 3;
+  int autoreport_seconds = 2;  // M155 S<n> when the firmware has AUTOREPORT_TEMP; 0: never
+  // Sent after a cancel: heaters and fan off, lift, motors off.
+  std::vector<std::string> cancel_gcode = {"M104 S0", "M140 S0", "M107", "G91", "G1 Z5 F600", "G90", "M84"};
+};
+
+struct FirmwareInfo {
+  std::string name;
+  bool emergency_parser = false, autoreport_temperature = false;
+};
+
+struct PrintResult {
+  marlin::SessionState state = marlin::SessionState::idle;
+  bool disconnected = false;  // the link dropped: `confirmed` is where to resume from
+  std::size_t confirmed = 0, total = 0;
+  std::string reason;          // why it stopped, when it did not finish
+  std::size_t lines_resent = 0, pokes = 0;
+  double seconds = 0;
+};
+
+class MarlinLink {
+ public:
+  MarlinLink(std::unique_ptr<Transport> transport, LinkConfig config = {});
+
+  // Throws LinkError when the printer does not answer.
+  FirmwareInfo handshake();
+  // `on_event` sees every session event, on this thread.
+  PrintResult print(const std::vector<std::string>& gcode,
+                    const std::function<void(const marlin::SessionEvent&)>& on_event = {},
+                    std::size_t resume_from = 0, const std::vector<std::string>& prelude = {});
+
+  void pause() { request_ = kPause; }
+  void resume() { request_ = kResume; }
+  void cancel() { request_ = kCancel; }
+  void emergency_stop() { request_ = kEmergency; }
+
+  const FirmwareInfo& firmware() const { return firmware_; }
+
+ private:
+  enum Request { kNone, kPause, kResume, kCancel, kEmergency };
+  std::unique_ptr<Transport> transport_;
+  LinkConfig config_;
+  FirmwareInfo firmware_;
+  std::atomic<int> request_{kNone};
+};
+
+}  // namespace salient::protocol::serial
