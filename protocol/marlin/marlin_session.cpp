@@ -128,6 +128,7 @@ void MarlinSession::acknowledge(Millis now) {
 }
 
 void MarlinSession::fail(const std::string& why) {
+  if (state_ == SessionState::failed) return;  // the first reason is the one that matters
   state_ = SessionState::failed;
   queue_.clear();
   events_.push_back({SessionEvent::Kind::failed, 0, why, {}});

@@ -81,7 +81,7 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
       }
       if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
       for (const marlin::SessionEvent& e : session.take_events()) {
-        if (e.kind == marlin::SessionEvent::Kind::failed) result.reason = e.text;
+        if (e.kind == marlin::SessionEvent::Kind::failed && result.reason.empty()) result.reason = e.text;
         if (on_event) on_event(e);
       }
       const SessionState s = session.state();
