@@ -155,6 +155,7 @@ void Database::exec(std::string_view sql) {
 }
 
 std::int64_t Database::last_insert_id() const { return sqlite3_last_insert_rowid(handle_->db); }
+int Database::changes() const { return sqlite3_changes(handle_->db); }
 
 int Database::schema_version() const {
   sqlite3_stmt* stmt = nullptr;

@@ -49,6 +49,7 @@ class Database {
   Statement prepare(std::string_view sql);
   void exec(std::string_view sql);
   std::int64_t last_insert_id() const;
+  int changes() const;  // rows the last INSERT/UPDATE/DELETE touched
   int schema_version() const;
   static int latest_schema_version();
 

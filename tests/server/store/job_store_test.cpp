@@ -1,0 +1,75 @@
+#include <doctest/doctest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <set>
+
+#include "server/store/job_store.hpp"
+
+namespace fs = std::filesystem;
+using namespace salient::server;
+
+namespace {
+struct Scratch {
+  fs::path dir = fs::temp_directory_path() / ("salient-jobs-test-" + std::to_string(::getpid()));
+  Scratch() { fs::remove_all(dir); }
+  ~Scratch() { fs::remove_all(dir); }
+};
+}  // namespace
+
+TEST_CASE("jobs: created queued, started oldest first, finished once, listed newest first") {
+  Scratch s;
+  Database db(s.dir / "salient.db");
+  JobStore jobs(db);
+  const Job a = jobs.create("bunny.obj", "m1", "{}", "s1", 10);
+  const Job b = jobs.create("spot.obj", "m2", "{}", "s1", 11);
+  CHECK(a.id != b.id);
+  CHECK(jobs.count(JobState::queued) == 2);
+  auto started = jobs.start_next(12);
+  REQUIRE(started);
+  CHECK(started->id == a.id);
+  CHECK(started->attempts == 1);
+  jobs.set_progress(a.id, "saliency", 0.25);
+  CHECK(jobs.get(a.id)->phase == "saliency");
+  CHECK(jobs.finish(a.id, JobState::done, std::nullopt, std::string(R"({"layers": 539})"), 13));
+  CHECK_FALSE(jobs.finish(a.id, JobState::failed, std::string("late"), std::nullopt, 14));  // already finished
+  const Job done = *jobs.get(a.id);
+  CHECK(done.state == JobState::done);
+  CHECK(done.progress == 1);
+  CHECK(*done.result == R"({"layers": 539})");
+  CHECK(*done.finished_at == 13);
+  const auto all = jobs.list(std::nullopt, 10, 0);
+  REQUIRE(all.size() == 2);
+  CHECK(all[0].id == b.id);
+  CHECK(jobs.list(JobState::done, 10, 0).size() == 1);
+  CHECK(jobs.list(std::nullopt, 1, 1)[0].id == a.id);  // paging
+  CHECK(jobs.find_done("m1", "s1")->id == a.id);
+  CHECK_FALSE(jobs.find_done("m2", "s1"));
+  CHECK(jobs.remove(b.id));
+  CHECK_FALSE(jobs.get(b.id));
+}
+
+TEST_CASE("jobs: a restart puts running jobs back in the queue, with their attempts counted") {
+  Scratch s;
+  std::string id;
+  {
+    Database db(s.dir / "salient.db");
+    JobStore jobs(db);
+    id = jobs.create("bunny.obj", "m", "{}", "s", 1).id;
+    jobs.start_next(2);
+    jobs.set_progress(id, "plan", 0.6);
+  }  // the daemon dies here
+  Database db(s.dir / "salient.db");
+  JobStore jobs(db);
+  CHECK(jobs.requeue_running() == 1);
+  const Job j = *jobs.get(id);
+  CHECK(j.state == JobState::queued);
+  CHECK(j.progress == 0);
+  CHECK(jobs.start_next(3)->attempts == 2);
+}
+
+TEST_CASE("job states round-trip through their names") {
+  for (JobState st : {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
+    CHECK(job_state_from(to_string(st)) == st);
+  CHECK_FALSE(job_state_from("exploded"));
+}
