@@ -2,80 +2,14 @@
 // through a table of known keys; anything left over is an error that names it and its line.
 #include "core/printer/printer_profile.hpp"
 
-#include <cmath>
 #include <fstream>
-#include <functional>
-#include <set>
 #include <sstream>
-#include <toml++/toml.h>
 
 #include "core/common/input_error.hpp"
+#include "core/common/toml_table_reader.hpp"
 #include "core/printer/builtin_profiles.hpp"
 
 namespace salient::core {
-namespace {
-
-std::uint64_t line_of(const toml::node& node) { return node.source().begin.line; }
-
-// Reads the known keys of one table into the profile; reports unknown keys.
-class TableReader {
- public:
-  TableReader(const toml::table& table, std::string prefix, const std::string& source)
-      : table_(table), prefix_(std::move(prefix)), source_(source) {}
-
-  void number(const char* key, double& out, bool positive = true) {
-    if (const toml::node* n = find(key)) {
-      const auto v = n->value<double>();
-      if (!v) fail(*n, key, "must be a number");
-      if (!std::isfinite(*v) || (positive && *v <= 0) || (!positive && *v < 0))
-        fail(*n, key, positive ? "must be a positive number" : "must not be negative");
-      out = *v;
-    }
-  }
-  void text(const char* key, std::string& out) {
-    if (const toml::node* n = find(key)) {
-      const auto v = n->value<std::string>();
-      if (!v) fail(*n, key, "must be a string");
-      out = *v;
-    }
-  }
-  const toml::table* table(const char* key) {
-    const toml::node* n = find(key);
-    if (!n) return nullptr;
-    if (!n->is_table()) fail(*n, key, "must be a table");
-    return n->as_table();
-  }
-  void reject_unknown() const {
-    for (const auto& [key, node] : table_)
-      if (!seen_.count(std::string(key.str())))
-        throw InputError(source_, InputLocation::at_line(line_of(node)), "unknown key '" + prefix_ + std::string(key.str()) + "'");
-  }
-  [[noreturn]] void fail(const toml::node& n, const char* key, const std::string& what) const {
-    throw InputError(source_, InputLocation::at_line(line_of(n)), "'" + prefix_ + key + "' " + what);
-  }
-
- private:
-  const toml::node* find(const char* key) {
-    seen_.insert(key);
-    return table_.get(key);
-  }
-
-  const toml::table& table_;
-  std::string prefix_;
-  const std::string& source_;
-  std::set<std::string> seen_;
-};
-
-void read_section(TableReader& top, const char* name, const std::string& source,
-                  const std::function<void(TableReader&)>& fields) {
-  if (const toml::table* t = top.table(name)) {
-    TableReader r(*t, std::string(name) + ".", source);
-    fields(r);
-    r.reject_unknown();
-  }
-}
-
-}  // namespace
 
 std::optional<GcodeFlavor> parse_gcode_flavor(std::string_view name) {
   if (name == "marlin") return GcodeFlavor::marlin;
@@ -94,12 +28,7 @@ std::string_view gcode_flavor_name(GcodeFlavor flavor) {
 }
 
 PrinterProfile parse_printer_profile(std::string_view text, const std::string& source) {
-  toml::table root;
-  try {
-    root = toml::parse(text, source);
-  } catch (const toml::parse_error& e) {
-    throw InputError(source, InputLocation::at_line(e.source().begin.line), std::string(e.description()));
-  }
+  const toml::table root = parse_toml(text, source);
   PrinterProfile p;
   p.id = std::filesystem::path(source).stem().string();
   TableReader top(root, "", source);

@@ -1,0 +1,45 @@
+// DaemonConfig: salientd's settings, typed and checked when it starts. Without a file the
+// embedded defaults apply: data under ./var, loopback only, one simulated printer "sim".
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace salient::server {
+
+struct PrinterConfig {
+  std::string id;
+  std::string kind = "sim";  // sim (salient-sim on a pseudo-terminal), serial, tcp
+  std::string port;          // serial: device path; tcp: HOST:PORT
+  unsigned baud = 250000;
+  std::string protocol = "marlin";
+  std::string profile = "generic-i3";  // printer profile for slicing (built-in id or .toml path)
+  std::string sim_args;                // extra salient-sim arguments, for kind = sim
+};
+
+inline PrinterConfig sim_printer() {
+  PrinterConfig p;
+  p.id = "sim";
+  return p;
+}
+
+struct DaemonConfig {
+  std::string listen = "127.0.0.1:8080";
+  std::string data_dir = "var";
+  std::size_t max_upload_bytes = 64u << 20;
+  std::size_t max_json_bytes = 256u << 10;
+  int max_json_depth = 32;
+  double request_timeout_seconds = 30;
+  int workers = 1;
+  int queue_limit = 32;
+  std::vector<PrinterConfig> printers = {sim_printer()};
+};
+
+DaemonConfig default_daemon_config();
+// Throws InputError "FILE:LINE: …" naming the key that is unknown or wrong.
+DaemonConfig parse_daemon_config(std::string_view text, const std::string& source);
+DaemonConfig load_daemon_config(const std::string& path);
+
+}  // namespace salient::server

@@ -1,0 +1,65 @@
+#include <doctest/doctest.h>
+
+#include "core/common/input_error.hpp"
+#include "server/config/daemon_config.hpp"
+
+using namespace salient::server;
+using salient::core::InputError;
+
+TEST_CASE("the shipped config/salientd.toml is exactly the embedded defaults") {
+  const DaemonConfig shipped = load_daemon_config(SALIENT_SOURCE_DIR "/config/salientd.toml");
+  const DaemonConfig d = default_daemon_config();
+  CHECK(shipped.listen == d.listen);
+  CHECK(shipped.data_dir == d.data_dir);
+  CHECK(shipped.max_upload_bytes == d.max_upload_bytes);
+  CHECK(shipped.max_json_bytes == d.max_json_bytes);
+  CHECK(shipped.max_json_depth == d.max_json_depth);
+  CHECK(shipped.workers == d.workers);
+  CHECK(shipped.queue_limit == d.queue_limit);
+  REQUIRE(shipped.printers.size() == 1);
+  CHECK(shipped.printers[0].id == "sim");
+  CHECK(shipped.printers[0].kind == "sim");
+  CHECK(d.listen.rfind("127.0.0.1:", 0) == 0);  // loopback unless configured
+}
+
+TEST_CASE("a config with serial and TCP printers") {
+  const DaemonConfig c = parse_daemon_config(R"(
+[server]
+listen = "0.0.0.0:9000"
+[jobs]
+workers = 2
+[[printers]]
+id = "ender"
+kind = "serial"
+port = "/dev/ttyUSB0"
+baud = 115200
+profile = "ender3"
+[[printers]]
+id = "bridge"
+kind = "tcp"
+port = "10.0.0.5:2000"
+)", "salientd.toml");
+  CHECK(c.listen == "0.0.0.0:9000");
+  CHECK(c.workers == 2);
+  REQUIRE(c.printers.size() == 2);
+  CHECK(c.printers[0].baud == 115200);
+  CHECK(c.printers[1].port == "10.0.0.5:2000");
+}
+
+TEST_CASE("mistakes name the file, the line and the key") {
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[server]\nlisten = \"x\"\nport = 80\n", "d.toml"),
+                       "d.toml:3: unknown key 'server.port'", InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[jobs]\nworkers = 0\n", "d.toml"), "d.toml:2: 'jobs.workers' must be between 1 and 64",
+                       InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[jobs]\nworkers = \"two\"\n", "d.toml"),
+                       "d.toml:2: 'jobs.workers' must be a whole number", InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"a\"\nkind = \"serial\"\n", "d.toml"),
+                       "d.toml:1: printer 'a' needs a 'port'", InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"a\"\n[[printers]]\nid = \"a\"\n", "d.toml"),
+                       "d.toml:3: printer id 'a' appears twice", InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"../x\"\n", "d.toml"),
+                       doctest::Contains("'printers.id' must be lower-case letters"), InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("colour = 1\n", "d.toml"), "d.toml:1: unknown key 'colour'", InputError);
+  CHECK_THROWS_AS(parse_daemon_config("[server\n", "d.toml"), InputError);
+  CHECK_THROWS_WITH_AS(load_daemon_config("/no/such/salientd.toml"), "/no/such/salientd.toml: cannot open for reading", InputError);
+}
