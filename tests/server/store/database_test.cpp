@@ -1,23 +1,17 @@
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <filesystem>
 
 #include "server/store/database.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::server;
 
-namespace {
-fs::path scratch(const char* name) {
-  const fs::path p = fs::temp_directory_path() / ("salient-db-test-" + std::to_string(::getpid()) + "-" + name);
-  fs::remove_all(p);
-  return p;
-}
-}  // namespace
 
 TEST_CASE("a new database is migrated to the latest schema, in WAL mode") {
-  const fs::path dir = scratch("new");
+  const salient::test::ScratchDir scratch("new");
+  const fs::path& dir = scratch.path;
   Database db(dir / "salient.db");
   CHECK(db.schema_version() == Database::latest_schema_version());
   auto mode = db.prepare("PRAGMA journal_mode");
@@ -29,11 +23,11 @@ TEST_CASE("a new database is migrated to the latest schema, in WAL mode") {
     REQUIRE(q.step());
     CHECK(q.integer(0) == 1);
   }
-  fs::remove_all(dir);
 }
 
 TEST_CASE("rows survive reopening, constraints hold, transactions roll back unless committed") {
-  const fs::path dir = scratch("rows");
+  const salient::test::ScratchDir scratch("rows");
+  const fs::path& dir = scratch.path;
   {
     Database db(dir / "salient.db");
     db.prepare("INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
@@ -58,16 +52,15 @@ TEST_CASE("rows survive reopening, constraints hold, transactions roll back unle
   CHECK(q.real(3) == 1.5);
   CHECK(q.null(4));
   CHECK_FALSE(q.step());
-  fs::remove_all(dir);
 }
 
 TEST_CASE("a database from a newer salientd is refused with a reason, and bad SQL names itself") {
-  const fs::path dir = scratch("newer");
+  const salient::test::ScratchDir scratch("newer");
+  const fs::path& dir = scratch.path;
   {
     Database db(dir / "salient.db");
     db.exec("PRAGMA user_version = 99");
     CHECK_THROWS_WITH_AS(db.prepare("SELEKT 1"), doctest::Contains("SQL error in \"SELEKT 1\""), StoreError);
   }
   CHECK_THROWS_WITH_AS(Database(dir / "salient.db"), doctest::Contains("newer than this salientd"), StoreError);
-  fs::remove_all(dir);
 }

@@ -1,25 +1,19 @@
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "server/store/file_store.hpp"
 #include "server/store/sha256.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::server;
 
-namespace {
-fs::path scratch(const char* name) {
-  const fs::path p = fs::temp_directory_path() / ("salient-store-test-" + std::to_string(::getpid()) + "-" + name);
-  fs::remove_all(p);
-  return p;
-}
-}  // namespace
 
 TEST_CASE("files are stored under their digest, once, and read back intact") {
-  const fs::path root = scratch("files");
+  const salient::test::ScratchDir scratch("files");
+  const fs::path& root = scratch.path;
   FileStore store(root);
   const std::string bytes = "solid cube\nendsolid cube\n";
   const std::string d = store.put(bytes);
@@ -31,11 +25,11 @@ TEST_CASE("files are stored under their digest, once, and read back intact") {
   CHECK(std::distance(fs::directory_iterator(root / "tmp"), fs::directory_iterator{}) == 0);
   store.remove(d);
   CHECK_FALSE(store.contains(d));
-  fs::remove_all(root);
 }
 
 TEST_CASE("digests from outside never become paths, and interrupted writes are cleared") {
-  const fs::path root = scratch("bad");
+  const salient::test::ScratchDir scratch("bad");
+  const fs::path& root = scratch.path;
   {
     FileStore store(root);
     std::ofstream(root / "tmp" / "half-written") << "partial";
@@ -46,5 +40,4 @@ TEST_CASE("digests from outside never become paths, and interrupted writes are c
   CHECK_THROWS_AS(store.path_of("../../etc/passwd"), StoreError);
   CHECK_THROWS_AS(store.read(std::string(64, 'A')), StoreError);  // upper case is not ours
   CHECK_THROWS_AS(store.read(std::string(64, 'a')), StoreError);  // well formed, absent
-  fs::remove_all(root);
 }

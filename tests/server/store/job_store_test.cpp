@@ -1,25 +1,18 @@
 #include <doctest/doctest.h>
-#include <unistd.h>
 
 #include <filesystem>
 #include <set>
 
 #include "server/store/job_store.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::server;
 
-namespace {
-struct Scratch {
-  fs::path dir = fs::temp_directory_path() / ("salient-jobs-test-" + std::to_string(::getpid()));
-  Scratch() { fs::remove_all(dir); }
-  ~Scratch() { fs::remove_all(dir); }
-};
-}  // namespace
 
 TEST_CASE("jobs: created queued, started oldest first, finished once, listed newest first") {
-  Scratch s;
-  Database db(s.dir / "salient.db");
+  const salient::test::ScratchDir scratch("jobs");
+  Database db(scratch.path / "salient.db");
   JobStore jobs(db);
   const Job a = jobs.create("bunny.obj", "m1", "{}", "s1", 10);
   const Job b = jobs.create("spot.obj", "m2", "{}", "s1", 11);
@@ -50,16 +43,16 @@ TEST_CASE("jobs: created queued, started oldest first, finished once, listed new
 }
 
 TEST_CASE("jobs: a restart puts running jobs back in the queue, with their attempts counted") {
-  Scratch s;
+  const salient::test::ScratchDir scratch("jobs");
   std::string id;
   {
-    Database db(s.dir / "salient.db");
+    Database db(scratch.path / "salient.db");
     JobStore jobs(db);
     id = jobs.create("bunny.obj", "m", "{}", "s", 1).id;
     jobs.start_next(2);
     jobs.set_progress(id, "plan", 0.6);
   }  // the daemon dies here
-  Database db(s.dir / "salient.db");
+  Database db(scratch.path / "salient.db");
   JobStore jobs(db);
   CHECK(jobs.requeue_running() == 1);
   const Job j = *jobs.get(id);
