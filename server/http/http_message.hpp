@@ -1,0 +1,39 @@
+// HttpRequest / HttpResponse: what a route handler sees and returns: plain strings, so that no
+// Beast type leaves http_server.cpp.
+#pragma once
+
+#include <map>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+namespace salient::server {
+
+struct HttpRequest {
+  std::string method;  // "GET", "POST", …
+  std::string target;  // as sent: path and query
+  std::string path;    // percent-decoded, without the query
+  std::map<std::string, std::string> query;    // decoded
+  std::map<std::string, std::string> headers;  // names in lower case
+  std::string body;
+  std::string remote;  // peer address
+
+  // The header's value, or "" when absent (`name` in lower case).
+  std::string header(std::string_view name) const;
+};
+
+struct HttpResponse {
+  int status = 200;
+  std::string content_type = "application/json";
+  std::string body;
+  std::vector<std::pair<std::string, std::string>> headers;
+
+  static HttpResponse text(int status, std::string body, std::string content_type = "text/plain; charset=utf-8");
+};
+
+// Splits "/a%20b?x=1&y" into its decoded path and query parameters; false when the
+// percent-encoding is malformed.
+bool split_target(std::string_view target, std::string& path, std::map<std::string, std::string>& query);
+
+}  // namespace salient::server

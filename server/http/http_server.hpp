@@ -1,0 +1,42 @@
+// HttpServer: HTTP/1.1 with keep-alive on Boost.Beast (the only file that includes it is the
+// .cpp). One strand per connection, a body limit, a timeout per read and write, and a graceful
+// stop: no new connections, responses in flight are finished, idle connections are closed.
+#pragma once
+
+#include <chrono>
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "server/http/router.hpp"
+
+namespace salient::server {
+
+struct HttpServerOptions {
+  std::string address = "127.0.0.1";
+  unsigned short port = 8080;  // 0: any free port (see start())
+  std::size_t body_limit = 64u << 20;
+  std::chrono::seconds timeout{30};
+  int threads = 2;
+  // Called after each response: method, route name, status, seconds (for logs and metrics).
+  std::function<void(const std::string&, const std::string&, int, double)> on_response;
+};
+
+class HttpServer {
+ public:
+  HttpServer(HttpServerOptions options, const Router& router);
+  ~HttpServer();
+  HttpServer(const HttpServer&) = delete;
+  HttpServer& operator=(const HttpServer&) = delete;
+
+  unsigned short start();  // binds and listens; returns the port; throws std::runtime_error
+  void run();              // serves on `threads` threads until stop() has drained everything
+  void stop();             // from any thread, or a signal watcher
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace salient::server

@@ -1,0 +1,68 @@
+#include "server/http/router.hpp"
+
+#include <nlohmann/json.hpp>
+
+namespace salient::server {
+
+HttpResponse error_response(int status, const std::string& code, const std::string& message) {
+  HttpResponse r;
+  r.status = status;
+  r.body = nlohmann::json{{"error", {{"code", code}, {"message", message}}}}.dump();
+  return r;
+}
+
+void Router::add(std::string method, std::string pattern, Access access, Handler handler) {
+  std::string name = pattern;
+  routes_.push_back({std::move(method), std::move(pattern), access, std::move(handler), std::move(name)});
+}
+
+bool match_pattern(const std::string& pattern, const std::string& path, PathParams& params) {
+  params.clear();
+  std::size_t p = 0, s = 0;
+  while (p < pattern.size() && s < path.size()) {
+    if (pattern[p] == '{') {
+      const std::size_t close = pattern.find('}', p);
+      const std::size_t end = path.find('/', s);
+      const std::string value = path.substr(s, end == std::string::npos ? std::string::npos : end - s);
+      if (value.empty()) return false;
+      params[pattern.substr(p + 1, close - p - 1)] = value;
+      p = close + 1;
+      s = end == std::string::npos ? path.size() : end;
+      continue;
+    }
+    if (pattern[p] != path[s]) return false;
+    ++p, ++s;
+  }
+  return p == pattern.size() && s == path.size();
+}
+
+HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_name) const {
+  std::string allowed;
+  PathParams params;
+  for (const Route& route : routes_) {
+    if (!match_pattern(route.pattern, request.path, params)) continue;
+    if (route.method != request.method) {
+      allowed += (allowed.empty() ? "" : ", ") + route.method;
+      continue;
+    }
+    if (route_name) *route_name = route.name;
+    if (route.access == Access::key && authenticate_ && !authenticate_(request))
+      return error_response(401, "unauthorized", "an API key is required: X-Api-Key: KEY or Authorization: Bearer KEY");
+    try {
+      return route.handler(request, params);
+    } catch (const ApiError& e) {
+      return error_response(e.status(), e.code(), e.what());
+    } catch (const std::exception& e) {
+      return error_response(500, "internal", e.what());
+    }
+  }
+  if (route_name) *route_name = "unmatched";
+  if (!allowed.empty()) {
+    HttpResponse r = error_response(405, "method_not_allowed", request.method + " is not allowed on " + request.path);
+    r.headers.emplace_back("Allow", allowed);
+    return r;
+  }
+  return error_response(404, "not_found", "no such endpoint: " + request.path);
+}
+
+}  // namespace salient::server

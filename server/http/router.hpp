@@ -1,0 +1,60 @@
+// Router: every endpoint declared once, with its method, path pattern ("/api/v1/jobs/{id}"),
+// access (open, or an API key) and handler. Handlers throw ApiError for a client's mistake; the
+// router turns it, and anything unexpected, into the JSON error body {"error": {code, message}}.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "server/http/http_message.hpp"
+
+namespace salient::server {
+
+class ApiError : public std::runtime_error {
+ public:
+  ApiError(int status, std::string code, const std::string& message)
+      : std::runtime_error(message), status_(status), code_(std::move(code)) {}
+  int status() const { return status_; }
+  const std::string& code() const { return code_; }
+
+ private:
+  int status_;
+  std::string code_;
+};
+
+HttpResponse error_response(int status, const std::string& code, const std::string& message);
+
+using PathParams = std::map<std::string, std::string>;
+using Handler = std::function<HttpResponse(const HttpRequest&, const PathParams&)>;
+enum class Access { open, key };
+
+struct Route {
+  std::string method;
+  std::string pattern;
+  Access access;
+  Handler handler;
+  std::string name;  // the pattern, for metrics and logs
+};
+
+class Router {
+ public:
+  void add(std::string method, std::string pattern, Access access, Handler handler);
+  void set_authenticator(std::function<bool(const HttpRequest&)> check) { authenticate_ = std::move(check); }
+
+  // 404 when no pattern matches, 405 (with Allow) when only the method is wrong, 401 without a
+  // valid key on a keyed route. `route_name` gets the matched pattern (or "unmatched").
+  HttpResponse dispatch(const HttpRequest& request, std::string* route_name = nullptr) const;
+  const std::vector<Route>& routes() const { return routes_; }
+
+ private:
+  std::vector<Route> routes_;
+  std::function<bool(const HttpRequest&)> authenticate_;
+};
+
+// Matches "/api/v1/jobs/{id}" against a path, filling the named segments.
+bool match_pattern(const std::string& pattern, const std::string& path, PathParams& params);
+
+}  // namespace salient::server
