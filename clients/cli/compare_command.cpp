@@ -4,21 +4,25 @@
 #include <nlohmann/json.hpp>
 
 #include "clients/cli/commands.hpp"
-#include "clients/cli/plan_options.hpp"
+#include "clients/cli/cli_options.hpp"
 #include "core/slicing/comparison.hpp"
 
 namespace salient::cli {
 
 void add_compare_command(CLI::App& app, CommandAction& action) {
-  auto o = std::make_shared<PlanOptions>();
+  struct CompareOptions {
+    core::PlanOptions plan;
+    bool json = false;
+  };
+  auto o = std::make_shared<CompareOptions>();
   CLI::App* cmd = app.add_subcommand("compare", "Compare every planner on one model (the paper's Table 1)");
-  add_plan_options(*cmd, *o);
+  add_plan_options(*cmd, o->plan, o->json);
   cmd->callback([o, &action] {
     action = [o] {
-      const auto setup = prepare(*o);
+      const auto setup = core::prepare(o->plan);
       const core::PlanRequest base = setup->request({});
       const core::Comparison c = core::compare_planners(base, setup->rho, core::planner_names());
-      const std::string name = std::filesystem::path(o->mesh.model).filename().string();
+      const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
       if (o->json) {
         nlohmann::json rows = nlohmann::json::array();
         for (const auto& r : c.rows)
@@ -31,8 +35,8 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
                           {"note", r.note}});
         nlohmann::json trace = nlohmann::json::array();
         for (const auto& s : c.adapslice_trace) trace.push_back({{"step", s.step}, {"layers", s.layers}, {"E", s.error}});
-        const nlohmann::json j = {{"model", name},       {"metric", o->metric},
-                                  {"saliency", o->saliency}, {"rho", c.rho},
+        const nlohmann::json j = {{"model", name},       {"metric", o->plan.metric},
+                                  {"saliency", o->plan.saliency}, {"rho", c.rho},
                                   {"epsilon", c.epsilon},   {"reference_layers", c.reference_layers},
                                   {"reference_rsmd", c.reference_rsmd}, {"fine_layers", c.fine_layers},
                                   {"coarse_layers", c.coarse_layers}, {"rows", rows},
@@ -41,7 +45,7 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
         return 0;
       }
       std::printf("%s: %s metric, %s saliency, rho %.3g; exact needs %d layers (fine %d, coarse %d), RSMD %.4f\n",
-                  name.c_str(), o->metric.c_str(), o->saliency.c_str(), c.rho, c.reference_layers, c.fine_layers,
+                  name.c_str(), o->plan.metric.c_str(), o->plan.saliency.c_str(), c.rho, c.reference_layers, c.fine_layers,
                   c.coarse_layers, c.reference_rsmd);
       std::printf("%-10s %14s %16s %9s  %s\n", "planner", "RSMD @ layers", "layers @ RSMD", "seconds", "note");
       for (const auto& r : c.rows)

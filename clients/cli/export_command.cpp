@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clients/cli/commands.hpp"
-#include "clients/cli/mesh_options.hpp"
+#include "clients/cli/cli_options.hpp"
 #include "core/common/input_error.hpp"
 #include "core/export/three_mf.hpp"
 
@@ -15,7 +15,7 @@ namespace salient::cli {
 namespace {
 
 struct ExportOptions {
-  MeshOptions mesh;
+  core::MeshOptions mesh;
   std::string plan, output;
 };
 
@@ -55,7 +55,7 @@ void add_export_command(CLI::App& app, CommandAction& action) {
   cmd->callback([o, &action] {
     action = [o] {
       const std::vector<double> z = read_plan_boundaries(o->plan);
-      const PlacedModel m = load_placed(o->mesh);
+      const core::PlacedModel m = core::load_placed(o->mesh);
       const double height = m.placement.bounds.size().z;
       if (std::fabs(z.back() - height) > 1e-3)
         throw core::InputError(std::filesystem::path(o->plan).filename().string(), {},

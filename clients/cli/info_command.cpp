@@ -5,17 +5,17 @@
 #include <nlohmann/json.hpp>
 
 #include "clients/cli/commands.hpp"
-#include "clients/cli/mesh_options.hpp"
+#include "clients/cli/cli_options.hpp"
 
 namespace salient::cli {
 namespace {
 
 struct InfoOptions {
-  MeshOptions mesh;
+  core::MeshOptions mesh;
   bool json = false;
 };
 
-nlohmann::json to_json(const PlacedModel& m) {
+nlohmann::json to_json(const core::PlacedModel& m) {
   const core::LoadedMesh& l = m.loaded;
   const core::RepairReport& r = l.repair;
   const core::BoundingBox& b = m.placement.bounds;
@@ -49,7 +49,7 @@ nlohmann::json to_json(const PlacedModel& m) {
   };
 }
 
-void print_text(const std::string& name, const PlacedModel& m) {
+void print_text(const std::string& name, const core::PlacedModel& m) {
   const core::LoadedMesh& l = m.loaded;
   const core::RepairReport& r = l.repair;
   const core::Vec3 size = m.placement.bounds.size();
@@ -78,7 +78,7 @@ void add_info_command(CLI::App& app, CommandAction& action) {
   cmd->add_flag("--json", options->json, "Print JSON instead of text");
   cmd->callback([options, &action] {
     action = [options] {
-      const PlacedModel m = load_placed(options->mesh);
+      const core::PlacedModel m = core::load_placed(options->mesh);
       const std::string name = std::filesystem::path(options->mesh.model).filename().string();
       if (options->json) {
         nlohmann::json j = to_json(m);

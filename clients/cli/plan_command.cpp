@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clients/cli/commands.hpp"
-#include "clients/cli/plan_options.hpp"
+#include "clients/cli/cli_options.hpp"
 #include "core/common/input_error.hpp"
 #include "core/slicing/plan_svg.hpp"
 
@@ -14,11 +14,12 @@ namespace salient::cli {
 namespace {
 
 struct PlanCommandOptions {
-  PlanOptions plan;
+  core::PlanOptions plan;
+  bool json = false;
   std::string output, svg;
 };
 
-nlohmann::json plan_json(const PlanningSetup& s, const std::string& planner, const core::PlanResult& r,
+nlohmann::json plan_json(const core::PlanningSetup& s, const std::string& planner, const core::PlanResult& r,
                          double seconds, const core::PlanTarget& target) {
   const core::Objective& obj = *s.objective;
   const core::ZProfile& p = *s.profile;
@@ -64,7 +65,7 @@ void write_file(const std::string& path, const std::string& text) {
 void add_plan_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<PlanCommandOptions>();
   CLI::App* cmd = app.add_subcommand("plan", "Choose layer thicknesses for a model");
-  add_plan_options(*cmd, o->plan);
+  add_plan_options(*cmd, o->plan, o->json);
   cmd->add_option("--planner", o->plan.planner, "Planner: exact, adapslice, hms, uniform, cusp, stepwise, ha13, ceo, random, fine, coarse")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output, "Write the plan as JSON to this file");
@@ -73,8 +74,8 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
     action = [o] {
       const auto planner = core::make_planner(o->plan.planner);
       if (!planner) throw core::InputError("--planner", {}, "unknown planner '" + o->plan.planner + "'");
-      const auto setup = prepare(o->plan);
-      const core::PlanTarget target = target_of(o->plan, *setup);
+      const auto setup = core::prepare(o->plan);
+      const core::PlanTarget target = core::target_of(o->plan, *setup);
       const auto t0 = std::chrono::steady_clock::now();
       const core::PlanResult result = planner->plan(setup->request(target));
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -84,7 +85,7 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       if (!o->svg.empty())
         write_file(o->svg, core::plan_svg(*setup->objective, result.plan, name + " — " + o->plan.planner + ", " +
                                                                               std::to_string(result.plan.layer_count()) + " layers"));
-      if (o->plan.json) {
+      if (o->json) {
         std::printf("%s\n", j.dump(2).c_str());
         return 0;
       }

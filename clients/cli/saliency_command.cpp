@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clients/cli/commands.hpp"
-#include "clients/cli/mesh_options.hpp"
+#include "clients/cli/cli_options.hpp"
 #include "core/common/input_error.hpp"
 #include "core/mesh/ply_writer.hpp"
 #include "core/render/saliency_preview.hpp"
@@ -17,7 +17,7 @@ namespace salient::cli {
 namespace {
 
 struct SaliencyOptions {
-  MeshOptions mesh;
+  core::MeshOptions mesh;
   std::string method = "spectral";
   std::string output, png;
   bool json = false;
@@ -37,7 +37,7 @@ void add_saliency_command(CLI::App& app, CommandAction& action) {
   cmd->add_flag("--json", o->json, "Print JSON instead of text");
   cmd->callback([o, &action] {
     action = [o] {
-      const PlacedModel m = load_placed(o->mesh);
+      const core::PlacedModel m = core::load_placed(o->mesh);
       const std::string name = std::filesystem::path(o->mesh.model).filename().string();
       const auto t0 = std::chrono::steady_clock::now();
       const std::vector<float> s = core::compute_saliency(m.loaded.mesh, *core::parse_saliency_method(o->method), name);

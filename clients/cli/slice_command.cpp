@@ -1,5 +1,5 @@
-// `salient slice MODEL -o out.gcode`: the whole chain — load, place on the printer's bed,
-// saliency, plan, toolpaths, G-code — with a progress line on a terminal.
+// `salient slice MODEL -o out.gcode`: core::slice_model (load, place, saliency, plan, toolpaths,
+// G-code) with a progress line on a terminal.
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -8,17 +8,16 @@
 #include <fstream>
 
 #include "clients/cli/commands.hpp"
-#include "clients/cli/plan_options.hpp"
+#include "clients/cli/cli_options.hpp"
 #include "core/common/input_error.hpp"
-#include "core/gcode/gcode_writer.hpp"
-#include "core/toolpath/support_generator.hpp"
-#include "core/toolpath/toolpath_generator.hpp"
+#include "core/pipeline/slice_pipeline.hpp"
 
 namespace salient::cli {
 namespace {
 
 struct SliceOptions {
-  PlanOptions plan;
+  core::PlanOptions plan;
+  bool json = false;
   std::string printer = "generic-i3";
   std::string output;
   core::ToolpathSettings toolpaths;
@@ -50,7 +49,7 @@ void write_atomically(const std::string& path, const std::string& text) {
 void add_slice_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<SliceOptions>();
   CLI::App* cmd = app.add_subcommand("slice", "Plan the layers of a model and write G-code for a printer");
-  add_plan_options(*cmd, o->plan);
+  add_plan_options(*cmd, o->plan, o->json);
   cmd->add_option("--planner", o->plan.planner, "Planner (see `salient plan --help`)")->capture_default_str();
   cmd->add_option("--printer", o->printer, "Printer profile: built-in id (ender3, generic-i3, replicator2x) or a .toml file")
       ->capture_default_str();
@@ -74,47 +73,23 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
   cmd->callback([o, min_layer, max_layer, &action] {
     action = [o, from_profile_min = min_layer->count() == 0, from_profile_max = max_layer->count() == 0] {
       const core::PrinterProfile printer = resolve_printer(o->printer);
-      PlanOptions plan = o->plan;
-      if (from_profile_min) plan.min_layer = printer.min_layer;  // the printer's limits unless overridden
-      if (from_profile_max) plan.max_layer = printer.max_layer;
-      if (!(o->toolpaths.line_width > 0)) throw core::InputError("--line-width", {}, "must be positive");
-      plan.mesh.bed_center_x = printer.bed_center_x();
-      plan.mesh.bed_center_y = printer.bed_center_y();
-      const auto planner = core::make_planner(plan.planner);
-      if (!planner) throw core::InputError("--planner", {}, "unknown planner '" + plan.planner + "'");
+      core::SliceSettings settings;
+      settings.plan = o->plan;
+      settings.min_layer_from_printer = from_profile_min;  // the printer's limits unless overridden
+      settings.max_layer_from_printer = from_profile_max;
+      settings.toolpaths = o->toolpaths;
+      settings.combine_infill = o->combine_infill;
+      settings.support = o->support;
+      settings.support_settings = o->support_settings;
       const auto t0 = std::chrono::steady_clock::now();
-      const auto setup = prepare(plan);
-      core::PlanRequest request = setup->request(target_of(plan, *setup));
-      request.run.progress = progress_line();
-      const core::PlanResult result = planner->plan(request);
-      std::vector<double> z;
-      for (int b : result.plan.boundaries) z.push_back(setup->profile->z(b));
-      core::RunContext run{nullptr, progress_line()};
-      if (o->combine_infill) o->toolpaths.combine_infill_up_to = printer.max_layer;
-      auto toolpaths = core::generate_toolpaths(setup->model.loaded.mesh, z, o->toolpaths, run);
-      if (o->support) {
-        o->support_settings.line_width = o->toolpaths.line_width;
-        core::add_support(toolpaths, o->support_settings, run);
-      }
-      core::GcodeSettings gs;
-      const core::ZProfile& p = *setup->profile;
-      const std::string name = std::filesystem::path(plan.mesh.model).filename().string();
-      gs.summary = {"model = " + name,
-                    "planner = " + plan.planner + ", metric " + plan.metric + ", saliency " + plan.saliency,
-                    "plan = " + std::to_string(result.plan.layer_count()) + " layers (finest " + std::to_string(p.most_layers()) +
-                        "), E " + std::to_string(setup->objective->error(result.plan)) + ", RSMD " +
-                        std::to_string(setup->objective->rsmd(result.plan))};
-      const core::GcodeResult g = core::write_gcode(toolpaths, printer, gs);
-      write_atomically(o->output, g.text);
-      std::size_t open = 0;
-      for (const auto& l : toolpaths) open += l.open_chains;
+      const core::SliceResult r = core::slice_model(settings, printer, core::RunContext{nullptr, progress_line()});
+      write_atomically(o->output, r.gcode);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf("%s: %d layers (finest %d, %.1f%% fewer) for %s; print %.0f min, %.2f m filament; sliced in %.2f s -> %s\n",
-                  name.c_str(), result.plan.layer_count(), p.most_layers(),
-                  100.0 * (1 - double(result.plan.layer_count()) / p.most_layers()), printer.name.c_str(), g.seconds / 60,
-                  g.filament_mm / 1000, seconds, o->output.c_str());
-      if (open > 0)
-        std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n", open,
+                  r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),
+                  printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds, o->output.c_str());
+      if (r.open_contours > 0)
+        std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n", r.open_contours,
                     o->toolpaths.max_gap);
       return 0;
     };

@@ -1,5 +1,5 @@
-// Options shared by `plan` and `compare`, and the pipeline they run: load, place, saliency,
-// z-profile, objective.
+// Planning options and what a planner needs, built in one call: load, place, saliency, z-profile,
+// objective. Shared by the CLI's plan, compare and slice and by the daemon's jobs.
 #pragma once
 
 #include <memory>
@@ -7,15 +7,11 @@
 #include <string>
 #include <vector>
 
-#include "clients/cli/mesh_options.hpp"
+#include "core/pipeline/placed_model.hpp"
 #include "core/slicing/objective.hpp"
 #include "core/slicing/planner.hpp"
 
-namespace CLI {
-class App;
-}
-
-namespace salient::cli {
+namespace salient::core {
 
 struct PlanOptions {
   MeshOptions mesh;
@@ -28,27 +24,24 @@ struct PlanOptions {
   std::string saliency = "uniform";
   std::string saliency_file;
   std::uint64_t seed = 1;
-  bool json = false;
 };
-
-void add_plan_options(CLI::App& command, PlanOptions& options);
 
 // Everything a planner needs, built once. Members refer to each other: not copyable.
 struct PlanningSetup {
   PlacedModel model;
   std::vector<float> saliency;
-  std::unique_ptr<core::ZProfile> profile;
-  std::unique_ptr<core::Objective> objective, geometric;
+  std::unique_ptr<ZProfile> profile;
+  std::unique_ptr<Objective> objective, geometric;
   double rho = 0.05;
   std::uint64_t seed = 1;
 
-  core::PlanRequest request(core::PlanTarget target) const;
+  PlanRequest request(PlanTarget target) const;
 };
 
-// Throws core::InputError naming the option or file at fault.
+// Throws InputError naming the option or file at fault.
 std::unique_ptr<PlanningSetup> prepare(const PlanOptions& options);
 
 // The target the options ask for (ρ by default; a count from --layers or --layer-height).
-core::PlanTarget target_of(const PlanOptions& options, const PlanningSetup& setup);
+PlanTarget target_of(const PlanOptions& options, const PlanningSetup& setup);
 
-}  // namespace salient::cli
+}  // namespace salient::core

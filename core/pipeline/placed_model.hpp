@@ -1,4 +1,5 @@
-// Command-line options shared by every command that loads and places a model.
+// Loading, repairing and placing a model in one call, with the options every front end shares
+// (the CLI's MODEL --up --height --scale, the daemon's job settings).
 #pragma once
 
 #include <optional>
@@ -7,11 +8,7 @@
 #include "core/mesh/mesh_loader.hpp"
 #include "core/mesh/placement.hpp"
 
-namespace CLI {
-class App;
-}
-
-namespace salient::cli {
+namespace salient::core {
 
 struct MeshOptions {
   std::string model;
@@ -20,9 +17,6 @@ struct MeshOptions {
   double scale = 1.0;
   double bed_center_x = 0, bed_center_y = 0;  // set from the printer profile where there is one
 };
-
-// Adds MODEL, --up, --height and --scale to `command`.
-void add_mesh_options(CLI::App& command, MeshOptions& options);
 
 struct PlacedModel {
   core::LoadedMesh loaded;
@@ -35,4 +29,4 @@ struct PlacedModel {
 // repair, so it follows welding and compaction.
 PlacedModel load_placed(const MeshOptions& options, const std::string& values_file = {});
 
-}  // namespace salient::cli
+}  // namespace salient::core

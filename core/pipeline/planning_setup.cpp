@@ -1,0 +1,47 @@
+#include "core/pipeline/planning_setup.hpp"
+
+#include <cmath>
+
+#include "core/common/input_error.hpp"
+#include "core/saliency/saliency.hpp"
+
+namespace salient::core {
+
+PlanRequest PlanningSetup::request(PlanTarget target) const {
+  return PlanRequest{*objective, &model.loaded.mesh, geometric.get(), target, seed, {}};
+}
+
+std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o) {
+  if (o.rho) validate_rho(*o.rho);
+  if (o.layers && *o.layers <= 0) throw InputError("--layers", {}, "must be a positive number of layers");
+  if (o.layer_height && !(*o.layer_height > 0)) throw InputError("--layer-height", {}, "must be positive");
+  if (o.layer_height && o.planner != "uniform")
+    throw InputError("--layer-height", {}, "applies to --planner uniform; use --layers for " + o.planner);
+  SlicingParams params{o.min_layer, o.max_layer, o.grid};
+  validate(params);  // before loading: a bad option should not wait for a big model
+  const auto metric = parse_metric(o.metric);
+  if (!metric) throw InputError("--metric", {}, "expected area or paper, got '" + o.metric + "'");
+  auto method = parse_saliency_method(o.saliency);
+  if (!method) throw InputError("--saliency", {}, "expected spectral, lee05, painted or uniform, got '" + o.saliency + "'");
+  if (!o.saliency_file.empty()) method = SaliencyMethod::painted;
+
+  auto s = std::make_unique<PlanningSetup>();
+  s->model = load_placed(o.mesh, o.saliency_file);
+  const std::string name = std::filesystem::path(o.mesh.model).filename().string();
+  s->saliency = compute_saliency(s->model.loaded.mesh, *method, name);
+  s->profile = std::make_unique<ZProfile>(ZProfile::build(s->model.loaded.mesh, s->saliency, params));
+  s->objective = std::make_unique<Objective>(*s->profile, *metric, false);
+  s->geometric = std::make_unique<Objective>(*s->profile, *metric, true);
+  s->rho = o.rho.value_or(0.05);
+  s->seed = o.seed;
+  return s;
+}
+
+PlanTarget target_of(const PlanOptions& o, const PlanningSetup& s) {
+  if (o.layers) return PlanTarget::count(*o.layers);
+  if (o.layer_height)
+    return PlanTarget::count(std::max(1, static_cast<int>(std::lround(s.profile->height() / *o.layer_height))));
+  return PlanTarget::within(s.objective->epsilon(s.rho));
+}
+
+}  // namespace salient::core

@@ -1,0 +1,60 @@
+#include "core/pipeline/slice_pipeline.hpp"
+
+#include <filesystem>
+
+#include "core/common/input_error.hpp"
+#include "core/gcode/gcode_writer.hpp"
+
+namespace salient::core {
+
+SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
+  PlanOptions& plan = s.plan;
+  if (s.min_layer_from_printer) plan.min_layer = printer.min_layer;
+  if (s.max_layer_from_printer) plan.max_layer = printer.max_layer;
+  if (!(s.toolpaths.line_width > 0)) throw InputError("--line-width", {}, "must be positive");
+  plan.mesh.bed_center_x = printer.bed_center_x();
+  plan.mesh.bed_center_y = printer.bed_center_y();
+  const auto planner = make_planner(plan.planner);
+  if (!planner) throw InputError("--planner", {}, "unknown planner '" + plan.planner + "'");
+
+  run.report("load", 0);
+  const auto setup = prepare(plan);
+  run.check();
+  PlanRequest request = setup->request(target_of(plan, *setup));
+  request.run = run;
+  const PlanResult planned = planner->plan(request);
+  run.check();
+
+  SliceResult out;
+  std::vector<double> boundaries;  // the bed, then each layer's top
+  for (int b : planned.plan.boundaries) boundaries.push_back(setup->profile->z(b));
+  out.z.assign(boundaries.begin() + (boundaries.empty() ? 0 : 1), boundaries.end());
+  if (s.combine_infill) s.toolpaths.combine_infill_up_to = printer.max_layer;
+  auto toolpaths = generate_toolpaths(setup->model.loaded.mesh, boundaries, s.toolpaths, run);
+  if (s.support) {
+    s.support_settings.line_width = s.toolpaths.line_width;
+    add_support(toolpaths, s.support_settings, run);
+  }
+  run.check();
+  run.report("gcode", 0);
+  const ZProfile& p = *setup->profile;
+  out.model_name = std::filesystem::path(plan.mesh.model).filename().string();
+  out.layers = planned.plan.layer_count();
+  out.finest_layers = p.most_layers();
+  out.error = setup->objective->error(planned.plan);
+  out.rsmd = setup->objective->rsmd(planned.plan);
+  GcodeSettings gs;
+  gs.summary = {"model = " + out.model_name,
+                "planner = " + plan.planner + ", metric " + plan.metric + ", saliency " + plan.saliency,
+                "plan = " + std::to_string(out.layers) + " layers (finest " + std::to_string(out.finest_layers) + "), E " +
+                    std::to_string(out.error) + ", RSMD " + std::to_string(out.rsmd)};
+  GcodeResult g = write_gcode(toolpaths, printer, gs);
+  out.gcode = std::move(g.text);
+  out.print_seconds = g.seconds;
+  out.filament_mm = g.filament_mm;
+  for (const auto& l : toolpaths) out.open_contours += l.open_chains;
+  run.report("gcode", 1);
+  return out;
+}
+
+}  // namespace salient::core

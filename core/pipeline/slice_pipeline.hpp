@@ -1,0 +1,39 @@
+// slice_model: the whole chain from a model file to G-code — load, place on the printer's bed,
+// saliency, plan, toolpaths (and support), G-code — as the CLI's `slice` and the daemon's jobs
+// run it. Phases reported through RunContext: load, plan, toolpaths, gcode.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/common/progress.hpp"
+#include "core/pipeline/planning_setup.hpp"
+#include "core/printer/printer_profile.hpp"
+#include "core/toolpath/support_generator.hpp"
+#include "core/toolpath/toolpath_generator.hpp"
+
+namespace salient::core {
+
+struct SliceSettings {
+  PlanOptions plan;
+  bool min_layer_from_printer = true, max_layer_from_printer = true;  // else plan.min_layer/max_layer
+  ToolpathSettings toolpaths;
+  bool combine_infill = true;  // sparse infill once for thin layers under the printer's thickest
+  bool support = false;
+  SupportSettings support_settings;
+};
+
+struct SliceResult {
+  std::string gcode;
+  std::vector<double> z;  // layer tops, mm
+  int layers = 0, finest_layers = 0;
+  double error = 0, rsmd = 0;
+  double print_seconds = 0, filament_mm = 0;
+  std::size_t open_contours = 0;  // left out: holes in the mesh wider than toolpaths.max_gap
+  std::string model_name;
+};
+
+// Throws InputError naming the option or file at fault, Cancelled when run.cancel fires.
+SliceResult slice_model(SliceSettings settings, const PrinterProfile& printer, const RunContext& run);
+
+}  // namespace salient::core
