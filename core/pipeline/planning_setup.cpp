@@ -11,7 +11,7 @@ PlanRequest PlanningSetup::request(PlanTarget target) const {
   return PlanRequest{*objective, &model.loaded.mesh, geometric.get(), target, seed, {}};
 }
 
-std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o) {
+std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& run) {
   if (o.rho) validate_rho(*o.rho);
   if (o.layers && *o.layers <= 0) throw InputError("--layers", {}, "must be a positive number of layers");
   if (o.layer_height && !(*o.layer_height > 0)) throw InputError("--layer-height", {}, "must be positive");
@@ -26,9 +26,13 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o) {
   if (!o.saliency_file.empty()) method = SaliencyMethod::painted;
 
   auto s = std::make_unique<PlanningSetup>();
+  run.report("load", 0);
   s->model = load_placed(o.mesh, o.saliency_file);
+  run.check();
   const std::string name = std::filesystem::path(o.mesh.model).filename().string();
-  s->saliency = compute_saliency(s->model.loaded.mesh, *method, name);
+  run.report("saliency", 0);
+  s->saliency = compute_saliency(s->model.loaded.mesh, *method, name, run);
+  run.check();
   s->profile = std::make_unique<ZProfile>(ZProfile::build(s->model.loaded.mesh, s->saliency, params));
   s->objective = std::make_unique<Objective>(*s->profile, *metric, false);
   s->geometric = std::make_unique<Objective>(*s->profile, *metric, true);

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/progress.hpp"
 #include "core/pipeline/placed_model.hpp"
 #include "core/slicing/objective.hpp"
 #include "core/slicing/planner.hpp"
@@ -39,7 +40,8 @@ struct PlanningSetup {
 };
 
 // Throws InputError naming the option or file at fault.
-std::unique_ptr<PlanningSetup> prepare(const PlanOptions& options);
+// Reports the phases load, saliency and profile through `run`, and stops when it is cancelled.
+std::unique_ptr<PlanningSetup> prepare(const PlanOptions& options, const RunContext& run = {});
 
 // The target the options ask for (ρ by default; a count from --layers or --layer-height).
 PlanTarget target_of(const PlanOptions& options, const PlanningSetup& setup);

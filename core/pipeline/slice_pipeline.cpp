@@ -17,9 +17,9 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   const auto planner = make_planner(plan.planner);
   if (!planner) throw InputError("--planner", {}, "unknown planner '" + plan.planner + "'");
 
-  run.report("load", 0);
-  const auto setup = prepare(plan);
+  const auto setup = prepare(plan, run);
   run.check();
+  run.report("plan", 0);
   PlanRequest request = setup->request(target_of(plan, *setup));
   request.run = run;
   const PlanResult planned = planner->plan(request);

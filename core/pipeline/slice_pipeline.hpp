@@ -1,6 +1,7 @@
 // slice_model: the whole chain from a model file to G-code — load, place on the printer's bed,
 // saliency, plan, toolpaths (and support), G-code — as the CLI's `slice` and the daemon's jobs
-// run it. Phases reported through RunContext: load, plan, toolpaths, gcode.
+// run it. Phases reported through RunContext: load, saliency, profile, plan (then the planner's
+// own name), toolpaths, gcode.
 #pragma once
 
 #include <string>

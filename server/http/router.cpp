@@ -51,7 +51,9 @@ HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_nam
     try {
       return route.handler(request, params);
     } catch (const ApiError& e) {
-      return error_response(e.status(), e.code(), e.what());
+      HttpResponse r = error_response(e.status(), e.code(), e.what());
+      r.headers.insert(r.headers.end(), e.headers().begin(), e.headers().end());
+      return r;
     } catch (const std::exception& e) {
       return error_response(500, "internal", e.what());
     }

@@ -168,16 +168,15 @@ int Database::schema_version() const {
 int Database::latest_schema_version() { return static_cast<int>(migrations.size()); }
 
 void Database::migrate() {
+  if (schema_version() == latest_schema_version()) return;
+  Transaction t(*this);  // BEGIN IMMEDIATE: another process migrating waits here, then finds it done
   const int have = schema_version();
   if (have > latest_schema_version())
     throw StoreError("the database has schema version " + std::to_string(have) + ", newer than this salientd (" +
                      std::to_string(latest_schema_version()) + "): upgrade salientd");
-  for (int v = have; v < latest_schema_version(); ++v) {
-    Transaction t(*this);
-    exec(migrations[static_cast<std::size_t>(v)]);
-    exec("PRAGMA user_version = " + std::to_string(v + 1));
-    t.commit();
-  }
+  for (int v = have; v < latest_schema_version(); ++v) exec(migrations[static_cast<std::size_t>(v)]);
+  exec("PRAGMA user_version = " + std::to_string(latest_schema_version()));
+  t.commit();
 }
 
 Database::Transaction::Transaction(Database& db) : db_(db) { db_.exec("BEGIN IMMEDIATE"); }

@@ -1,0 +1,215 @@
+#include "server/jobs/job_service.hpp"
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "core/common/input_error.hpp"
+#include "core/mesh/mesh_reader.hpp"
+#include "core/pipeline/slice_pipeline.hpp"
+#include "core/printer/printer_profile.hpp"
+#include "server/http/router.hpp"
+#include "server/jobs/job_settings.hpp"
+#include "server/store/job_store.hpp"
+#include "server/store/sha256.hpp"
+
+namespace salient::server {
+namespace {
+
+namespace fs = std::filesystem;
+
+double now_seconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// Where each phase the core reports lies in the whole job, and the job phase it belongs to.
+struct Span {
+  const char* phase;
+  double from, to;
+};
+Span span_of(std::string_view reported) {
+  if (reported == "load") return {"load", 0.0, 0.05};
+  if (reported == "saliency" || reported == "lee05") return {"saliency", 0.05, 0.35};
+  if (reported == "profile") return {"plan", 0.35, 0.4};
+  if (reported == "toolpaths") return {"toolpaths", 0.6, 0.95};
+  if (reported == "gcode") return {"toolpaths", 0.95, 1.0};
+  return {"plan", 0.4, 0.6};  // "plan" and the planners' own names
+}
+
+core::PrinterProfile printer_for(const std::string& id) {
+  if (auto p = core::builtin_printer(id)) return *p;
+  std::string known;
+  for (const std::string& k : core::builtin_printer_ids()) known += (known.empty() ? "" : ", ") + k;
+  throw ApiError(400, "bad_settings", "settings: unknown printer '" + id + "' (built in: " + known + ")");
+}
+
+}  // namespace
+
+std::string sanitize_filename(const std::string& name) {
+  std::string base = name.substr(name.find_last_of("/\\") == std::string::npos ? 0 : name.find_last_of("/\\") + 1);
+  std::string out;
+  for (char c : base) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '_';
+    out += ok ? c : '_';
+  }
+  while (!out.empty() && out.front() == '.') out.erase(0, 1);  // no hidden files, no ".."
+  if (out.size() > 100) out = out.substr(out.size() - 100);
+  return out.empty() ? "model" : out;
+}
+
+JobService::JobService(Store& store, JobServiceOptions options, std::function<void(const Job&)> on_change)
+    : store_(store), options_(options), on_change_(std::move(on_change)) {}
+
+JobService::~JobService() { stop(); }
+
+void JobService::start() {
+  JobStore(store_.db()).requeue_running();
+  std::lock_guard lock(mutex_);
+  stopping_ = false;
+  for (int i = 0; i < options_.workers; ++i) workers_.emplace_back([this] { work(); });
+}
+
+void JobService::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+    for (auto& [id, token] : running_) token->cancel();
+  }
+  wake_.notify_all();
+  for (auto& t : workers_) t.join();
+  workers_.clear();
+}
+
+void JobService::changed(const std::string& id) {
+  if (!on_change_) return;
+  if (auto j = JobStore(store_.db()).get(id)) on_change_(*j);
+}
+
+JobService::Submitted JobService::submit(const std::string& filename, const std::string& bytes, const std::string& settings_json) {
+  const JobSettings settings = parse_job_settings(settings_json, options_.max_json_depth);
+  printer_for(settings.printer);
+  const std::string name = sanitize_filename(filename);
+  if (!core::detect_format(bytes, name))
+    throw ApiError(415, "unsupported_format", name + ": not an STL, OBJ, PLY or OFF model");
+  try {
+    core::read_mesh(bytes, name);
+  } catch (const core::InputError& e) {
+    throw ApiError(422, "unreadable_mesh", e.what());
+  }
+  const std::string digest = store_.files().put(bytes);
+  const std::string settings_digest = sha256_hex(settings.canonical);
+  JobStore jobs(store_.db());
+  if (auto done = jobs.find_done(digest, settings_digest)) return {*done, true};
+  if (jobs.count(JobState::queued) >= options_.queue_limit)
+    throw ApiError(429, "queue_full", "the job queue is full (" + std::to_string(options_.queue_limit) + " waiting)")
+        .with_header("Retry-After", "30");
+  Job job = jobs.create(name, digest, settings.canonical, settings_digest, now_seconds());
+  wake_.notify_one();
+  changed(job.id);
+  return {job, false};
+}
+
+bool JobService::cancel(const std::string& id) {
+  {
+    std::lock_guard lock(mutex_);
+    if (auto it = running_.find(id); it != running_.end()) {
+      it->second->cancel();
+      return true;
+    }
+  }
+  const bool did = JobStore(store_.db()).finish(id, JobState::cancelled, std::nullopt, std::nullopt, now_seconds());
+  if (did) changed(id);
+  return did;
+}
+
+void JobService::work() {
+  for (;;) {
+    std::optional<Job> job;
+    {
+      std::unique_lock lock(mutex_);
+      if (stopping_) return;
+      lock.unlock();
+      job = JobStore(store_.db()).start_next(now_seconds());
+      lock.lock();
+      if (!job) {
+        wake_.wait_for(lock, std::chrono::seconds(1));
+        continue;
+      }
+    }
+    run(*job);
+  }
+}
+
+void JobService::run(Job job) {
+  auto token = std::make_shared<core::CancelToken>();
+  {
+    std::lock_guard lock(mutex_);
+    if (stopping_) return;  // stays running: re-queued at the next start
+    running_[job.id] = token;
+  }
+  changed(job.id);
+  const fs::path work = store_.data_dir() / "work" / job.id;
+  std::mutex progress_mutex;
+  std::string last_phase;
+  double last_progress = -1;
+  auto last_write = std::chrono::steady_clock::now();
+  core::RunContext run{token.get(), [&](std::string_view reported, double fraction) {
+                         const Span s = span_of(reported);
+                         const double overall = s.from + (s.to - s.from) * std::clamp(fraction, 0.0, 1.0);
+                         std::lock_guard lock(progress_mutex);
+                         const auto t = std::chrono::steady_clock::now();
+                         if (last_phase == s.phase && (overall - last_progress < 0.02 || t - last_write < std::chrono::milliseconds(100)))
+                           return;
+                         last_phase = s.phase, last_progress = overall, last_write = t;
+                         JobStore(store_.db()).set_progress(job.id, s.phase, overall);
+                         changed(job.id);
+                       }};
+  std::optional<std::string> error, result;
+  JobState end = JobState::done;
+  try {
+    JobSettings settings = parse_job_settings(job.settings, options_.max_json_depth);
+    const core::PrinterProfile printer = printer_for(settings.printer);
+    fs::create_directories(work);
+    const fs::path model = work / job.filename;  // sanitised when the job was made
+    fs::remove(model);
+    fs::create_symlink(fs::absolute(store_.files().path_of(job.model_digest)), model);
+    settings.slice.plan.mesh.model = model.string();
+    const core::SliceResult r = core::slice_model(settings.slice, printer, run);
+    const std::string gcode = store_.files().put(r.gcode);
+    const nlohmann::json plan = {{"model", r.model_name}, {"z", r.z}, {"layers", r.layers}, {"finest_layers", r.finest_layers},
+                                 {"error", r.error},      {"rsmd", r.rsmd}};
+    const std::string plan_digest = store_.files().put(plan.dump(2));
+    result = nlohmann::json{{"layers", r.layers},
+                            {"finest_layers", r.finest_layers},
+                            {"saving", r.finest_layers > 0 ? 1.0 - double(r.layers) / r.finest_layers : 0.0},
+                            {"print_seconds", r.print_seconds},
+                            {"filament_mm", r.filament_mm},
+                            {"error", r.error},
+                            {"rsmd", r.rsmd},
+                            {"open_contours", r.open_contours},
+                            {"printer", printer.id},
+                            {"gcode", gcode},
+                            {"plan", plan_digest}}
+                 .dump();
+  } catch (const core::Cancelled&) {
+    end = JobState::cancelled;
+  } catch (const core::InputError& e) {
+    end = JobState::failed, error = e.what();
+  } catch (const ApiError& e) {
+    end = JobState::failed, error = e.what();
+  } catch (const std::exception& e) {
+    end = JobState::failed, error = std::string("internal error: ") + e.what();
+  }
+  std::error_code ec;
+  fs::remove_all(work, ec);
+  bool shutting_down;
+  {
+    std::lock_guard lock(mutex_);
+    running_.erase(job.id);
+    shutting_down = stopping_;
+  }
+  if (end == JobState::cancelled && shutting_down) return;  // interrupted by a stop: re-queued next start
+  JobStore(store_.db()).finish(job.id, end, error, result, now_seconds());
+  changed(job.id);
+}
+
+}  // namespace salient::server

@@ -1,0 +1,65 @@
+// JobService: the job queue and its workers. A submitted model is stored (content-addressed)
+// and checked, a job row is written (or a finished job for the same bytes and settings is
+// reused), and a bounded pool of worker threads runs core::slice_model on queued jobs, oldest
+// first, with progress in the database and cooperative cancellation. On stop, running jobs are
+// interrupted and left "running", so that the next start re-queues them.
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/common/progress.hpp"
+#include "server/jobs/job.hpp"
+#include "server/store/store.hpp"
+
+namespace salient::server {
+
+struct JobServiceOptions {
+  int workers = 1;
+  int queue_limit = 32;
+  std::size_t max_json_depth = 32;
+};
+
+class JobService {
+ public:
+  JobService(Store& store, JobServiceOptions options, std::function<void(const Job&)> on_change = {});
+  ~JobService();
+
+  void start();  // re-queues what a previous run left running, starts the workers
+  void stop();   // interrupts running jobs (they stay re-queueable) and joins the workers
+
+  struct Submitted {
+    Job job;
+    bool reused = false;  // an earlier finished job with the same model bytes and settings
+  };
+  // Throws ApiError: 400 bad settings, 415 not a mesh format, 422 unreadable mesh, 429 queue full.
+  Submitted submit(const std::string& filename, const std::string& bytes, const std::string& settings_json);
+  // Queued: cancelled at once; running: asked to stop. False when it had already finished.
+  bool cancel(const std::string& id);
+
+ private:
+  void work();
+  void run(Job job);
+  void changed(const std::string& id);
+
+  Store& store_;
+  JobServiceOptions options_;
+  std::function<void(const Job&)> on_change_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::map<std::string, std::shared_ptr<core::CancelToken>> running_;
+  std::vector<std::thread> workers_;
+};
+
+// File names from clients become "bunny.obj"-like names: letters, digits, '.', '-', '_' only.
+std::string sanitize_filename(const std::string& name);
+
+}  // namespace salient::server
