@@ -13,6 +13,8 @@ build_packages=(
   libtomlplusplus-dev zlib1g-dev libpng-dev
   # fuzz targets (libFuzzer) and the sanitizer build
   clang libclang-rt-14-dev
+  # end-to-end tests speak to the daemon as users do
+  curl python3
 )
 peer_packages=(prusa-slicer printrun wrk hyperfine)
 

@@ -1,18 +1,117 @@
-// salientd: the salient daemon (Step 6 builds the HTTP/WebSocket service).
-#include <cstdio>
-#include <cstring>
-#include <string>
+// salientd: the salient daemon. Without --config it runs on the embedded defaults: data in
+// ./var, loopback only. SIGINT/SIGTERM stop it gracefully: no new connections, responses in
+// flight finished, running jobs interrupted and left to be re-queued at the next start.
+#include <signal.h>
 
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <thread>
+
+#include "core/common/input_error.hpp"
+#include "server/api/api_key.hpp"
+#include "server/api/routes.hpp"
 #include "server/build_info.hpp"
+#include "server/config/daemon_config.hpp"
+#include "server/http/http_server.hpp"
+#include "server/jobs/job_service.hpp"
+#include "server/store/store.hpp"
+
+namespace {
+
+using namespace salient::server;
+
+void log_line(const std::string& text) {
+  const auto now = std::chrono::system_clock::now();
+  const std::time_t t = std::chrono::system_clock::to_time_t(now);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  std::fprintf(stderr, "%s %s\n", stamp, text.c_str());
+}
+
+int serve(const std::string& config_path, const std::string& data, const std::string& listen) {
+  DaemonConfig config = config_path.empty() ? default_daemon_config() : load_daemon_config(config_path);
+  if (!data.empty()) config.data_dir = data;
+  if (!listen.empty()) config.listen = listen;
+  const std::size_t colon = config.listen.rfind(':');
+  if (colon == std::string::npos) throw salient::core::InputError("--listen", {}, "expected ADDRESS:PORT, got '" + config.listen + "'");
+  HttpServerOptions http;
+  http.address = config.listen.substr(0, colon);
+  try {
+    http.port = static_cast<unsigned short>(std::stoi(config.listen.substr(colon + 1)));
+  } catch (const std::exception&) {
+    throw salient::core::InputError("--listen", {}, "'" + config.listen.substr(colon + 1) + "' is not a port");
+  }
+  http.body_limit = config.max_upload_bytes;
+  http.timeout = std::chrono::seconds(static_cast<long>(config.request_timeout_seconds));
+  http.on_response = [](const std::string& method, const std::string& route, int status, double seconds) {
+    log_line("http method=" + method + " route=" + route + " status=" + std::to_string(status) +
+             " ms=" + std::to_string(static_cast<int>(seconds * 1000)));
+  };
+
+  // Signals go to the watcher thread only.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  Store store(config.data_dir);
+  const ApiKey key = ensure_api_key(store);
+  if (key.created)
+    log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
+  JobService jobs(store, {config.workers, config.queue_limit, static_cast<std::size_t>(config.max_json_depth)},
+                  [](const Job& j) {
+                    if (finished(j.state) || j.state == JobState::queued)
+                      log_line("job id=" + j.id + " state=" + std::string(to_string(j.state)) +
+                               (j.error ? " error=\"" + *j.error + "\"" : ""));
+                  });
+  Router router;
+  router.set_authenticator([&store](const HttpRequest& r) { return request_has_valid_key(store, r); });
+  add_system_routes(router);
+  add_job_routes(router, store, jobs, config);
+  HttpServer server(http, router);
+  const unsigned short port = server.start();
+  jobs.start();
+  log_line("salientd " + std::string(version()) + " listening on http://" + http.address + ":" + std::to_string(port) +
+           " data=" + config.data_dir);
+  std::thread watcher([&] {
+    int sig = 0;
+    sigwait(&signals, &sig);
+    log_line(std::string("stopping (") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + ")");
+    server.stop();
+  });
+  server.run();
+  jobs.stop();
+  if (watcher.joinable()) {
+    pthread_kill(watcher.native_handle(), SIGTERM);  // in case run() ended without a signal
+    watcher.join();
+  }
+  log_line("stopped");
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
-  for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--version") == 0) {
-      std::printf("salientd %s\n", std::string(salient::server::version()).c_str());
-      return 0;
-    }
+  CLI::App app{"salientd: the salient daemon (REST API, job queue, printers)"};
+  app.set_version_flag("--version", "salientd " + std::string(version()));
+  std::string config, data, listen;
+  app.add_option("--config", config, "TOML configuration (default: the embedded defaults, see config/salientd.toml)");
+  app.add_option("--data", data, "Data directory: database, stored files, API key (default: var)");
+  app.add_option("--listen", listen, "ADDRESS:PORT to serve (default: 127.0.0.1:8080)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
   }
-  std::fprintf(stderr, "salientd %s: not yet: the daemon arrives in step 6; use the `salient` CLI meanwhile\n",
-               std::string(salient::server::version()).c_str());
-  return 2;
+  try {
+    return serve(config, data, listen);
+  } catch (const salient::core::InputError& e) {
+    std::fprintf(stderr, "salientd: error: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "salientd: error: %s\n", e.what());
+    return 1;
+  }
 }

@@ -1,0 +1,23 @@
+#include <nlohmann/json.hpp>
+
+#include "server/api/routes.hpp"
+#include "server/build_info.hpp"
+
+namespace salient::server {
+
+void add_system_routes(Router& router) {
+  router.add("GET", "/healthz", Access::open, [](const HttpRequest&, const PathParams&) {
+    return HttpResponse::text(200, R"({"status":"ok"})", "application/json");
+  });
+  // OctoPrint's version call: slicers check "api", and that "text" starts with "OctoPrint".
+  router.add("GET", "/api/version", Access::open, [](const HttpRequest&, const PathParams&) {
+    const std::string v(version());
+    return HttpResponse::text(200,
+                              nlohmann::json{{"api", "0.1"}, {"server", "1.9.0"}, {"text", "OctoPrint 1.9.0 (salientd " + v + ")"},
+                                             {"salientd", v}, {"salient_api", api_level}}
+                                  .dump(),
+                              "application/json");
+  });
+}
+
+}  // namespace salient::server
