@@ -1,5 +1,5 @@
 # salient: the two commands a newcomer needs are `make run` and `make test`.
-#   make run            install missing Debian packages, build, start salientd (for now: the CLI)
+#   make run            install missing Debian packages, build, start salientd (data in ./var)
 #   make test           install, build (Release), run the whole test suite
 #   make test-sanitize  the same suite under AddressSanitizer + UndefinedBehaviorSanitizer
 #   make fuzz           libFuzzer (clang) on FUZZ_TARGET (mesh_reader_fuzz, gcode_fuzz, toolpath_fuzz, line_codec_fuzz)
@@ -25,9 +25,13 @@ $(BUILD)/build.ninja: | deps
 build: deps $(BUILD)/build.ninja
 	cmake --build $(BUILD) -j $(JOBS)
 
+LISTEN ?= 127.0.0.1:8080
 run: build
-	@echo "salientd is not built yet (step 6); meanwhile: salient info on a shared model"
-	$(BUILD)/clients/salient info $(MODELS)/stanford-bunny.obj --up y --height 80
+	@mkdir -p var
+	@echo "salientd: data in ./var, http://$(LISTEN) (loopback only); Ctrl-C stops it"
+	@echo "  try: curl -H \"X-Api-Key: \$$(cat var/api-key)\" -F file=@$(MODELS)/stanford-bunny.obj \\"
+	@echo "         -F 'settings={\"up\": \"y\", \"height\": 40}' http://$(LISTEN)/api/v1/jobs"
+	$(BUILD)/server/salientd --data var --listen $(LISTEN)
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure --no-tests=error -j $(JOBS)
