@@ -102,9 +102,14 @@ JobService::Submitted JobService::submit(const std::string& filename, const std:
   if (jobs.count(JobState::queued) >= options_.queue_limit)
     throw ApiError(429, "queue_full", "the job queue is full (" + std::to_string(options_.queue_limit) + " waiting)")
         .with_header("Retry-After", "30");
-  Job job = jobs.create(name, digest, settings.canonical, settings_digest, now_seconds());
+  Job job;
+  {
+    // Under the lock that workers take to start a job: "queued" is always told before "running".
+    std::lock_guard lock(mutex_);
+    job = jobs.create(name, digest, settings.canonical, settings_digest, now_seconds());
+    if (on_change_) on_change_(job);
+  }
   wake_.notify_one();
-  changed(job.id);
   return {job, false};
 }
 
@@ -127,9 +132,7 @@ void JobService::work() {
     {
       std::unique_lock lock(mutex_);
       if (stopping_) return;
-      lock.unlock();
       job = JobStore(store_.db()).start_next(now_seconds());
-      lock.lock();
       if (!job) {
         wake_.wait_for(lock, std::chrono::seconds(1));
         continue;
