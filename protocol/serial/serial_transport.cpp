@@ -37,7 +37,7 @@ class AsioTransport : public Transport {
   void write(std::string_view bytes) override {
     boost::system::error_code ec;
     asio::write(stream_, asio::buffer(bytes.data(), bytes.size()), ec);
-    if (ec) throw LinkError(name_ + ": write failed: " + ec.message());
+    if (ec) throw LinkError(name_ + ": the printer disconnected (write failed: " + ec.message() + ")");
   }
 
   std::string read(std::chrono::microseconds timeout) override {
