@@ -4,7 +4,8 @@
 # MODE full: a sliced model prints completely and the simulator executed exactly its commands.
 # MODE interrupt: Ctrl-C mid-print cancels: exit 130, and the last commands run are the cancel
 #   G-code (heaters off, head lifted, motors off).
-# MODE disconnect: the cable is pulled; exit 4 and the message gives the --resume-from count.
+# MODE disconnect: the cable is pulled; exit 4 and the message gives the --resume-from count;
+#   resuming with it on a fresh printer runs the prelude and then exactly the rest of the file.
 set -euo pipefail
 salient=$1 sim=$2 work=$3 mode=$4
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
@@ -43,6 +44,15 @@ case $mode in
     "$salient" print p.gcode --port "$dev" --quiet > out.txt || status=$?
     [ $status -eq 4 ] || { echo "exit $status, expected 4"; cat out.txt; exit 1; }
     grep -Eq "disconnected after 99[0-9] of 3002 commands were confirmed" out.txt
-    grep -Eq -- "--resume-from 99[0-9]" out.txt ;;
+    from=$(grep -Eo -- "--resume-from [0-9]+" out.txt | cut -d' ' -f2)
+    "$sim" --log resumed.log > sim2.out 2>/dev/null &
+    sim2=$!
+    for _ in $(seq 100); do [ -s sim2.out ] && break; sleep 0.05; done
+    "$salient" print p.gcode --port "$(head -1 sim2.out)" --quiet --resume-from "$from" > out2.txt
+    kill $sim2; wait $sim2 || true
+    sed 's/;.*//;s/ *$//' p.gcode | grep -v '^$' | tail -n +$((from + 1)) > rest.txt
+    tail -n "$(wc -l < rest.txt)" resumed.log | diff -q - rest.txt
+    grep -q "^M109 S200$" resumed.log  # the prelude heated up again before going on
+    grep -q "printed 3002 commands" out2.txt ;;
 esac
 echo "ok: $mode"

@@ -2,8 +2,12 @@
 // executable on a real pseudo-terminal. For a G-code file of more than 50,000 lines, under each
 // fault and all at once, the simulator's log of executed commands must be the file's commands,
 // exactly: none lost, none doubled (besides the host's own M115, M110 and counted M105 pokes).
+#include <arpa/inet.h>
 #include <doctest/doctest.h>
+#include <netinet/in.h>
+#include <poll.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -12,12 +16,15 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <atomic>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "protocol/marlin/line_codec.hpp"
 #include "protocol/marlin/resume_prelude.hpp"
 #include "protocol/serial/marlin_link.hpp"
+#include "protocol/sim/sim_firmware.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::protocol;
@@ -268,4 +275,55 @@ TEST_CASE("the link reports a printer that does not answer, and a TCP address th
   CHECK_THROWS_AS(serial::open_serial({"/dev/salient-no-such-port", 115200, true, false}), serial::LinkError);
   CHECK_THROWS_AS(serial::open_tcp("127.0.0.1:1"), serial::LinkError);
   CHECK_THROWS_AS(serial::open_tcp("no-port"), serial::LinkError);
+}
+
+TEST_CASE("the TCP transport (a ser2net-style bridge): the same print, exactly") {
+  // A bridge on loopback with the simulated firmware behind it, in this process.
+  const int listener = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  REQUIRE(::bind(listener, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0);
+  REQUIRE(::listen(listener, 1) == 0);
+  socklen_t len = sizeof a;
+  ::getsockname(listener, reinterpret_cast<sockaddr*>(&a), &len);
+  std::atomic<bool> stop{false};
+  std::vector<std::string> executed;
+  std::thread bridge([&] {
+    const int fd = ::accept(listener, nullptr, nullptr);
+    sim::SimConfig config;
+    config.advanced_ok = true;
+    config.faults = sim::parse_faults("noise=0.02,seed=21");
+    sim::SimFirmware fw(config);
+    const auto t0 = std::chrono::steady_clock::now();
+    auto now = [&] { return std::chrono::duration_cast<sim::Micros>(std::chrono::steady_clock::now() - t0); };
+    char buf[65536];
+    while (!stop) {
+      pollfd p{fd, POLLIN, 0};
+      if (::poll(&p, 1, 5) > 0) {
+        const ssize_t n = ::recv(fd, buf, sizeof buf, 0);
+        if (n <= 0) break;
+        fw.receive(std::string_view(buf, static_cast<std::size_t>(n)), now());
+      }
+      fw.advance(now());
+      const std::string out = fw.take_output(now());
+      if (!out.empty()) ::send(fd, out.data(), out.size(), MSG_NOSIGNAL);
+      for (auto& c : fw.take_executed()) executed.push_back(std::move(c));
+    }
+    ::close(fd);
+  });
+  const std::vector<std::string> gcode = make_gcode(3000);
+  serial::LinkConfig config;
+  config.session.reply_timeout = milliseconds(200);
+  serial::MarlinLink link(serial::open_tcp("127.0.0.1:" + std::to_string(ntohs(a.sin_port))), config);
+  CHECK(link.handshake().name.find("salient-sim") != std::string::npos);
+  Run run;
+  run.result = link.print(gcode);
+  stop = true;
+  bridge.join();
+  ::close(listener);
+  run.log = executed;
+  CHECK(run.result.state == marlin::SessionState::finished);
+  CHECK(run.result.lines_resent > 0);  // the noise was there, and was got over
+  CHECK(printed(run) == commands_of(gcode));
 }
