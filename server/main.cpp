@@ -14,7 +14,10 @@
 #include "server/build_info.hpp"
 #include "server/config/daemon_config.hpp"
 #include "server/http/http_server.hpp"
+#include "server/events/event_hub.hpp"
 #include "server/jobs/job_service.hpp"
+#include "server/metrics/metrics.hpp"
+#include "server/printers/printer_service.hpp"
 #include "server/store/store.hpp"
 
 namespace {
@@ -44,7 +47,9 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   }
   http.body_limit = config.max_upload_bytes;
   http.timeout = std::chrono::seconds(static_cast<long>(config.request_timeout_seconds));
-  http.on_response = [](const std::string& method, const std::string& route, int status, double seconds) {
+  Metrics metrics;
+  http.on_response = [&metrics](const std::string& method, const std::string& route, int status, double seconds) {
+    metrics.http_response(method, route, status, seconds);
     log_line("http method=" + method + " route=" + route + " status=" + std::to_string(status) +
              " ms=" + std::to_string(static_cast<int>(seconds * 1000)));
   };
@@ -60,19 +65,32 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   const ApiKey key = ensure_api_key(store);
   if (key.created)
     log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
+  const ApiKeys keys(store);
+  EventHub hub;
+  PrinterService printers(config, store, hub);
+  hub.set_snapshot(event_snapshots(store, printers));
+  const auto publish_job = job_event_publisher(hub);
   JobService jobs(store, {config.workers, config.queue_limit, static_cast<std::size_t>(config.max_json_depth)},
-                  [](const Job& j) {
+                  [&](const Job& j) {
+                    publish_job(j);
+                    if (finished(j.state) && j.started_at && j.finished_at)
+                      metrics.job_finished(std::string(to_string(j.state)), *j.finished_at - *j.started_at);
                     if (finished(j.state) || j.state == JobState::queued)
                       log_line("job id=" + j.id + " state=" + std::string(to_string(j.state)) +
                                (j.error ? " error=\"" + *j.error + "\"" : ""));
                   });
   Router router;
-  router.set_authenticator([&store](const HttpRequest& r) { return request_has_valid_key(store, r); });
+  router.set_authenticator([&keys](const HttpRequest& r) { return keys.valid(r); });
   add_system_routes(router);
   add_job_routes(router, store, jobs, config);
+  add_printer_routes(router, printers, store, config);
+  add_octoprint_routes(router, store, printers, config);
+  add_metrics_route(router, metrics, store, printers, hub);
+  http.websocket = events_endpoint(hub, keys);
   HttpServer server(http, router);
   const unsigned short port = server.start();
   jobs.start();
+  printers.start();
   log_line("salientd " + std::string(version()) + " listening on http://" + http.address + ":" + std::to_string(port) +
            " data=" + config.data_dir);
   std::thread watcher([&] {
@@ -83,6 +101,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   });
   server.run();
   jobs.stop();
+  printers.stop();  // a running print is interrupted (heaters off) and can be resumed
   if (watcher.joinable()) {
     pthread_kill(watcher.native_handle(), SIGTERM);  // in case run() ended without a signal
     watcher.join();

@@ -1,4 +1,4 @@
-// `salient`: the command-line tool over salient's core (and, later, the daemon's API).
+// `salient`: the command-line tool over salient's core and a client of salientd.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   salient::cli::add_slice_command(app, action);
   salient::cli::add_export_command(app, action);
   salient::cli::add_print_command(app, action);
+  salient::cli::add_client_commands(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -25,8 +25,7 @@ std::uint8_t byte(float v) { return static_cast<std::uint8_t>(std::lround(std::c
 
 }  // namespace
 
-void write_ply(const std::filesystem::path& path, const Mesh& mesh, std::span<const float> quality,
-               std::span<const Color> colors) {
+std::string ply_bytes(const Mesh& mesh, std::span<const float> quality, std::span<const Color> colors) {
   const bool q = quality.size() == mesh.vertex_count() && !quality.empty();
   const bool c = colors.size() == mesh.vertex_count() && !colors.empty();
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by salient\nelement vertex " +
@@ -50,6 +49,12 @@ void write_ply(const std::filesystem::path& path, const Mesh& mesh, std::span<co
     put(out, std::uint8_t{3});
     for (std::uint32_t v : t) put(out, static_cast<std::int32_t>(v));
   }
+  return out;
+}
+
+void write_ply(const std::filesystem::path& path, const Mesh& mesh, std::span<const float> quality,
+               std::span<const Color> colors) {
+  const std::string out = ply_bytes(mesh, quality, colors);
   const std::filesystem::path tmp = path.string() + ".part";
   {
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);

@@ -1,9 +1,14 @@
 #include "core/pipeline/slice_pipeline.hpp"
 
+#include <algorithm>
 #include <filesystem>
 
 #include "core/common/input_error.hpp"
+#include "core/export/three_mf.hpp"
 #include "core/gcode/gcode_writer.hpp"
+#include "core/mesh/ply_writer.hpp"
+#include "core/render/saliency_preview.hpp"
+#include "core/slicing/plan_svg.hpp"
 
 namespace salient::core {
 
@@ -53,6 +58,14 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.print_seconds = g.seconds;
   out.filament_mm = g.filament_mm;
   for (const auto& l : toolpaths) out.open_contours += l.open_chains;
+  if (s.artefacts) {
+    const Mesh& mesh = setup->model.loaded.mesh;
+    out.plot_svg = plan_svg(*setup->objective, planned.plan, out.model_name + " — " + plan.planner + ", " + plan.metric);
+    out.model_3mf = three_mf(mesh, boundaries, out.model_name);
+    std::vector<Color> colors(setup->saliency.size());
+    std::transform(setup->saliency.begin(), setup->saliency.end(), colors.begin(), heat_color);
+    out.saliency_ply = ply_bytes(mesh, setup->saliency, colors);
+  }
   run.report("gcode", 1);
   return out;
 }

@@ -22,6 +22,7 @@ struct SliceSettings {
   bool combine_infill = true;  // sparse infill once for thin layers under the printer's thickest
   bool support = false;
   SupportSettings support_settings;
+  bool artefacts = false;  // also make the plot, the 3MF and the saliency PLY (SliceResult)
 };
 
 struct SliceResult {
@@ -32,6 +33,9 @@ struct SliceResult {
   double print_seconds = 0, filament_mm = 0;
   std::size_t open_contours = 0;  // left out: holes in the mesh wider than toolpaths.max_gap
   std::string model_name;
+  // With SliceSettings::artefacts: the plan's plot (SVG), the placed model with the plan as
+  // PrusaSlicer's layer-height profile (3MF), and the saliency as vertex quality and colour (PLY).
+  std::string plot_svg, model_3mf, saliency_ply;
 };
 
 // Throws InputError naming the option or file at fault, Cancelled when run.cancel fires.

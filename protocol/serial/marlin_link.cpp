@@ -51,6 +51,31 @@ FirmwareInfo MarlinLink::handshake() {
                   " tries: is it a Marlin printer, and is the baud rate right?");
 }
 
+void MarlinLink::idle(std::chrono::milliseconds duration, const std::function<void(const marlin::SessionEvent&)>& on_event,
+                      std::chrono::milliseconds poll) {
+  using Kind = marlin::SessionEvent::Kind;
+  const auto until = Clock::now() + duration;
+  if (!firmware_.autoreport_temperature && Clock::now() - last_poll_ >= poll) {
+    transport_->write("M105\n");
+    last_poll_ = Clock::now();
+  }
+  while (Clock::now() < until) {
+    idle_partial_ += transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
+    for (std::size_t nl; (nl = idle_partial_.find('\n')) != std::string::npos;) {
+      const marlin::MarlinReply r = marlin::parse_reply(std::string_view(idle_partial_).substr(0, nl));
+      idle_partial_.erase(0, nl + 1);
+      if (!on_event) continue;
+      if (r.temperatures.hotend || r.temperatures.bed) on_event({Kind::temperatures, 0, {}, r.temperatures});
+      if (r.kind == marlin::ReplyKind::error) {
+        on_event({Kind::error, 0, r.text, {}});
+        if (r.fatal) on_event({Kind::failed, 0, r.text, {}});
+      }
+      if (r.kind == marlin::ReplyKind::start) on_event({Kind::reset, 0, "the printer restarted", {}});
+    }
+    if (idle_partial_.size() > 4096) idle_partial_.clear();  // no newline in 4 KiB: noise
+  }
+}
+
 PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
                               const std::function<void(const marlin::SessionEvent&)>& on_event, std::size_t resume_from,
                               const std::vector<std::string>& prelude) {
@@ -76,6 +101,7 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
         case kPause: session.pause(); break;
         case kResume: session.resume(now()); break;
         case kCancel: session.cancel(config_.cancel_gcode, now()); break;
+        case kInterrupt: session.cancel({"M104 S0", "M140 S0", "M107"}, now()); break;
         case kEmergency: session.emergency_stop(); break;
         default: break;
       }

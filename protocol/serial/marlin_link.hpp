@@ -49,19 +49,32 @@ class MarlinLink {
                     const std::function<void(const marlin::SessionEvent&)>& on_event = {},
                     std::size_t resume_from = 0, const std::vector<std::string>& prelude = {});
 
+  // Between prints: listens for up to `duration` (temperature reports, errors, a reboot), and
+  // polls with an unnumbered M105 every `poll` when the firmware does not auto-report. Events:
+  // temperatures, error (fatal ones end with "failed"), reset. Throws LinkError.
+  void idle(std::chrono::milliseconds duration, const std::function<void(const marlin::SessionEvent&)>& on_event,
+            std::chrono::milliseconds poll = std::chrono::milliseconds(2000));
+  // Writes one unnumbered line now (M112 when no print is running). Throws LinkError.
+  void send_now(const std::string& line) { transport_->write(line + "\n"); }
+
   void pause() { request_ = kPause; }
   void resume() { request_ = kResume; }
   void cancel() { request_ = kCancel; }
+  // Stops streaming and turns the heaters off, nothing else (no park, motors stay on): the print
+  // can be resumed later from where it stopped.
+  void interrupt() { request_ = kInterrupt; }
   void emergency_stop() { request_ = kEmergency; }
 
   const FirmwareInfo& firmware() const { return firmware_; }
 
  private:
-  enum Request { kNone, kPause, kResume, kCancel, kEmergency };
+  enum Request { kNone, kPause, kResume, kCancel, kInterrupt, kEmergency };
   std::unique_ptr<Transport> transport_;
   LinkConfig config_;
   FirmwareInfo firmware_;
   std::atomic<int> request_{kNone};
+  std::string idle_partial_;
+  std::chrono::steady_clock::time_point last_poll_{};
 };
 
 }  // namespace salient::protocol::serial

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <fstream>
 #include <random>
@@ -40,16 +41,21 @@ ApiKey ensure_api_key(Store& store) {
   return {key, true};
 }
 
-bool request_has_valid_key(Store& store, const HttpRequest& request) {
+ApiKeys::ApiKeys(Store& store) {
+  auto q = store.db().prepare("SELECT key_digest FROM api_keys");
+  while (q.step()) digests_.push_back(q.text(0));
+}
+
+bool ApiKeys::valid(const HttpRequest& request) const {
   std::string key = request.header("x-api-key");
   const std::string auth = request.header("authorization");
   if (key.empty() && auth.rfind("Bearer ", 0) == 0) key = auth.substr(7);
+  if (key.empty()) {
+    if (const auto it = request.query.find("apikey"); it != request.query.end()) key = it->second;
+  }
   if (key.empty() || key.size() > 256) return false;
-  auto q = store.db().prepare("SELECT 1 FROM api_keys WHERE key_digest = ?");
-  q.bind(1, std::string_view(sha256_hex(key)));
-  const bool found = q.step();
-  if (found) q.run();
-  return found;
+  const std::string digest = sha256_hex(key);
+  return std::find(digests_.begin(), digests_.end(), digest) != digests_.end();
 }
 
 }  // namespace salient::server

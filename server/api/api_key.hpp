@@ -3,6 +3,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include "server/http/http_message.hpp"
 #include "server/store/store.hpp"
@@ -15,7 +16,16 @@ struct ApiKey {
 };
 
 ApiKey ensure_api_key(Store& store);
-// X-Api-Key: KEY or Authorization: Bearer KEY, checked against the stored digests.
-bool request_has_valid_key(Store& store, const HttpRequest& request);
+// The digests of the valid keys, read once at start: checking a request touches no database.
+class ApiKeys {
+ public:
+  explicit ApiKeys(Store& store);
+  // X-Api-Key: KEY, Authorization: Bearer KEY, or ?apikey=KEY (as OctoPrint; for browsers'
+  // WebSockets, which cannot set headers).
+  bool valid(const HttpRequest& request) const;
+
+ private:
+  std::vector<std::string> digests_;
+};
 
 }  // namespace salient::server

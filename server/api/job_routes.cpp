@@ -1,6 +1,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/common/input_error.hpp"
+#include "server/api/api_json.hpp"
 #include "server/api/routes.hpp"
 #include "server/http/multipart.hpp"
 #include "server/store/job_store.hpp"
@@ -9,31 +10,6 @@ namespace salient::server {
 namespace {
 
 using nlohmann::json;
-
-HttpResponse json_response(int status, const json& j) { return HttpResponse::text(status, j.dump(), "application/json"); }
-
-json job_json(const Job& j) {
-  json out = {{"id", j.id},
-              {"state", to_string(j.state)},
-              {"phase", j.phase},
-              {"progress", j.progress},
-              {"filename", j.filename},
-              {"settings", json::parse(j.settings, nullptr, false)},
-              {"attempts", j.attempts},
-              {"created_at", j.created_at},
-              {"started_at", j.started_at ? json(*j.started_at) : json(nullptr)},
-              {"finished_at", j.finished_at ? json(*j.finished_at) : json(nullptr)},
-              {"error", j.error ? json(*j.error) : json(nullptr)}};
-  if (j.result) {
-    json r = json::parse(*j.result, nullptr, false);
-    if (!r.is_discarded()) {
-      out["result"] = r;
-      const std::string base = "/api/v1/jobs/" + j.id;
-      out["links"] = {{"gcode", base + "/gcode"}, {"plan", base + "/plan"}};
-    }
-  }
-  return out;
-}
 
 Job job_or_404(Store& store, const std::string& id) {
   if (auto j = JobStore(store.db()).get(id)) return *j;
@@ -60,6 +36,8 @@ HttpResponse artefact(Store& store, const std::string& id, const char* key, cons
   if (j.state != JobState::done || !j.result)
     throw ApiError(409, "not_ready", "job " + id + " is " + std::string(to_string(j.state)) + ": nothing to download yet");
   const json r = json::parse(*j.result);
+  if (!r.contains(key))  // a job finished by an older salientd, before this artefact existed
+    throw ApiError(404, "not_found", "job " + id + " has no " + std::string(key) + ": submit it again");
   HttpResponse out = HttpResponse::text(200, store.files().read(r.at(key).get<std::string>()), type);
   std::string stem = j.filename.substr(0, j.filename.find_last_of('.'));
   out.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + stem + suffix + "\"");
@@ -130,6 +108,15 @@ void add_job_routes(Router& router, Store& store, JobService& jobs, const Daemon
   });
   router.add("GET", "/api/v1/jobs/{id}/plan", Access::key, [&store](const HttpRequest&, const PathParams& p) {
     return artefact(store, p.at("id"), "plan", "application/json", ".plan.json");
+  });
+  router.add("GET", "/api/v1/jobs/{id}/plot.svg", Access::key, [&store](const HttpRequest&, const PathParams& p) {
+    return artefact(store, p.at("id"), "plot", "image/svg+xml", ".plot.svg");
+  });
+  router.add("GET", "/api/v1/jobs/{id}/model.3mf", Access::key, [&store](const HttpRequest&, const PathParams& p) {
+    return artefact(store, p.at("id"), "model", "model/3mf", ".3mf");
+  });
+  router.add("GET", "/api/v1/jobs/{id}/saliency.ply", Access::key, [&store](const HttpRequest&, const PathParams& p) {
+    return artefact(store, p.at("id"), "saliency", "application/octet-stream", ".saliency.ply");
   });
 }
 

@@ -1,9 +1,16 @@
 // The daemon's endpoints, declared in one place per area.
 #pragma once
 
+#include <functional>
+
+#include "server/api/api_key.hpp"
 #include "server/config/daemon_config.hpp"
+#include "server/events/event_hub.hpp"
 #include "server/http/router.hpp"
+#include "server/http/websocket_channel.hpp"
 #include "server/jobs/job_service.hpp"
+#include "server/metrics/metrics.hpp"
+#include "server/printers/printer_service.hpp"
 #include "server/store/store.hpp"
 
 namespace salient::server {
@@ -12,5 +19,18 @@ namespace salient::server {
 void add_system_routes(Router& router);
 // /api/v1/jobs…: submit, list, get, cancel/remove, artefacts.
 void add_job_routes(Router& router, Store& store, JobService& jobs, const DaemonConfig& config);
+// /api/v1/printers…: status, connect/disconnect, print, pause/resume/cancel/emergency-stop, command.
+void add_printer_routes(Router& router, PrinterService& printers, Store& store, const DaemonConfig& config);
+// OctoPrint's API as slicers use it: /api/files/local, /api/job, /api/printer, /api/settings…
+void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config);
+// /metrics (Prometheus text).
+void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers, const EventHub& hub);
+
+// The WebSocket /api/v1/events (keyed; ?topics=a,b subscribes at once).
+WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys);
+// What a new subscriber to a topic sees first: the job's or printers' current state.
+SnapshotFn event_snapshots(Store& store, PrinterService& printers);
+// Job changes as "job" events; a change of state or phase is never dropped, progress coalesces.
+std::function<void(const Job&)> job_event_publisher(EventHub& hub);
 
 }  // namespace salient::server

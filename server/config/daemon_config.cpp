@@ -47,6 +47,7 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
       r.text("protocol", p.protocol);
       r.text("profile", p.profile);
       r.text("sim_args", p.sim_args);
+      r.boolean("autoconnect", p.autoconnect);
       r.reject_unknown();
       const InputLocation at = InputLocation::at_line(core::line_of(n));
       if (p.id.empty() || p.id.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-_") != std::string::npos)

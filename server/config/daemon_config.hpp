@@ -16,7 +16,9 @@ struct PrinterConfig {
   unsigned baud = 250000;
   std::string protocol = "marlin";
   std::string profile = "generic-i3";  // printer profile for slicing (built-in id or .toml path)
-  std::string sim_args;                // extra salient-sim arguments, for kind = sim
+  // salient-sim's arguments, for kind = sim: Marlin 2 features on, 20× faster than real time.
+  std::string sim_args = "--advanced-ok --emergency-parser --autoreport --time-scale 0.05";
+  bool autoconnect = true;  // connect when the daemon starts
 };
 
 inline PrinterConfig sim_printer() {

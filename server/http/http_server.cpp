@@ -6,6 +6,7 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/version.hpp>
+#include <boost/beast/websocket.hpp>
 #include <mutex>
 #include <optional>
 #include <set>
@@ -18,9 +19,11 @@ namespace {
 namespace asio = boost::asio;
 namespace beast = boost::beast;
 namespace http = beast::http;
+namespace websocket = beast::websocket;
 using tcp = asio::ip::tcp;
 
 class Session;
+class WsSession;
 
 struct Shared {
   Shared(const Router& r, HttpServerOptions o) : router(r), options(std::move(o)) {}
@@ -28,7 +31,87 @@ struct Shared {
   HttpServerOptions options;
   std::mutex mutex;
   std::set<std::shared_ptr<Session>> sessions;
+  std::set<std::shared_ptr<WsSession>> websockets;
   bool stopping = false;
+};
+
+// One WebSocket connection: a read loop that hands text to the channel, and a write loop that
+// drains the channel whenever it wakes us. Pings and the close handshake are Beast's.
+class WsSession : public std::enable_shared_from_this<WsSession> {
+ public:
+  WsSession(beast::tcp_stream stream, std::shared_ptr<WebSocketChannel> channel, Shared& shared)
+      : ws_(std::move(stream)), channel_(std::move(channel)), shared_(shared) {}
+
+  void start(http::request<http::string_body> request) {
+    beast::get_lowest_layer(ws_).expires_never();
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.set_option(websocket::stream_base::decorator(
+        [](websocket::response_type& r) { r.set(http::field::server, "salientd"); }));
+    ws_.read_message_max(64 * 1024);
+    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+      if (ec) return self->finish();
+      self->open_ = true;
+      std::weak_ptr<WsSession> weak = self;
+      self->channel_->open([weak] {
+        if (auto s = weak.lock()) asio::post(s->ws_.get_executor(), [s] { s->pump(); });
+      });
+      self->read();
+      self->pump();
+    });
+  }
+
+  void stop() {
+    asio::post(ws_.get_executor(), [self = shared_from_this()] { self->close(websocket::close_code::going_away, "server stopping"); });
+  }
+
+ private:
+  void read() {
+    ws_.async_read(in_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return self->finish();
+      self->channel_->receive(beast::buffers_to_string(self->in_.data()));
+      self->in_.consume(self->in_.size());
+      self->read();
+    });
+  }
+
+  void pump() {
+    if (writing_ || !open_ || closing_) return;
+    if (std::string reason = channel_->close_reason(); !reason.empty())
+      return close(websocket::close_code::policy_error, reason);
+    auto text = channel_->next();
+    if (!text) return;
+    writing_ = true;
+    out_ = std::move(*text);
+    ws_.text(true);
+    ws_.async_write(asio::buffer(out_), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      self->writing_ = false;
+      if (ec) return self->finish();
+      self->pump();
+    });
+  }
+
+  void close(websocket::close_code code, const std::string& reason) {
+    if (closing_ || !open_) return finish();
+    closing_ = true;
+    websocket::close_reason r(code);
+    r.reason = reason.substr(0, 120);  // a control frame holds 125 bytes
+    ws_.async_close(r, [self = shared_from_this()](beast::error_code) { self->finish(); });
+  }
+
+  void finish() {
+    if (finished_) return;
+    finished_ = true;
+    channel_->closed();
+    std::lock_guard lock(shared_.mutex);
+    shared_.websockets.erase(shared_from_this());
+  }
+
+  websocket::stream<beast::tcp_stream> ws_;
+  std::shared_ptr<WebSocketChannel> channel_;
+  Shared& shared_;
+  beast::flat_buffer in_;
+  std::string out_;
+  bool open_ = false, writing_ = false, closing_ = false, finished_ = false;
 };
 
 class Session : public std::enable_shared_from_this<Session> {
@@ -77,6 +160,14 @@ class Session : public std::enable_shared_from_this<Session> {
     beast::error_code ignored;
     request.remote = stream_.socket().remote_endpoint(ignored).address().to_string();
     std::string route = "unmatched";
+    if (websocket::is_upgrade(in) && shared_.options.websocket && split_target(request.target, request.path, request.query)) {
+      WebSocketAccept accepted = shared_.options.websocket(request);
+      if (accepted.channel) return upgrade(std::move(accepted.channel));
+      keep_alive_ = false;
+      write(std::move(accepted.refusal), false);
+      if (shared_.options.on_response) shared_.options.on_response(request.method, "websocket", response_status_, 0);
+      return;
+    }
     HttpResponse response = split_target(request.target, request.path, request.query)
                                 ? shared_.router.dispatch(request, &route)
                                 : error_response(400, "bad_request", "malformed percent-encoding in the URL");
@@ -86,6 +177,18 @@ class Session : public std::enable_shared_from_this<Session> {
     if (shared_.options.on_response)
       shared_.options.on_response(request.method, route, response_status_,
                                   std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  }
+
+  // Hands the connection to a WebSocket session; this HTTP session ends here.
+  void upgrade(std::shared_ptr<WebSocketChannel> channel) {
+    auto ws = std::make_shared<WsSession>(std::move(stream_), std::move(channel), shared_);
+    {
+      std::lock_guard lock(shared_.mutex);
+      shared_.sessions.erase(shared_from_this());
+      if (shared_.stopping) return;
+      shared_.websockets.insert(ws);
+    }
+    ws->start(parser_->release());
   }
 
   void reply_error(int status, const std::string& code, const std::string& message) {
@@ -188,12 +291,15 @@ void HttpServer::stop() {
     impl_->acceptor.close(ec);
   });
   std::set<std::shared_ptr<Session>> sessions;
+  std::set<std::shared_ptr<WsSession>> websockets;
   {
     std::lock_guard lock(impl_->shared.mutex);
     impl_->shared.stopping = true;
     sessions = impl_->shared.sessions;
+    websockets = impl_->shared.websockets;
   }
   for (const auto& s : sessions) s->stop();
+  for (const auto& w : websockets) w->stop();
 }
 
 }  // namespace salient::server

@@ -1,5 +1,5 @@
 // HttpServer: HTTP/1.1 with keep-alive on Boost.Beast (the only file that includes it is the
-// .cpp). One strand per connection, a body limit, a timeout per read and write, and a graceful
+// .cpp), and WebSocket through a WebSocketChannel. One strand per connection, a body limit, a timeout per read and write, and a graceful
 // stop: no new connections, responses in flight are finished, idle connections are closed.
 #pragma once
 
@@ -10,6 +10,7 @@
 #include <string>
 
 #include "server/http/router.hpp"
+#include "server/http/websocket_channel.hpp"
 
 namespace salient::server {
 
@@ -21,6 +22,8 @@ struct HttpServerOptions {
   int threads = 2;
   // Called after each response: method, route name, status, seconds (for logs and metrics).
   std::function<void(const std::string&, const std::string&, int, double)> on_response;
+  // Upgrade requests go here (none: they are served as plain HTTP requests).
+  WebSocketAcceptor websocket;
 };
 
 class HttpServer {

@@ -176,6 +176,7 @@ void JobService::run(Job job) {
     fs::remove(model);
     fs::create_symlink(fs::absolute(store_.files().path_of(job.model_digest)), model);
     settings.slice.plan.mesh.model = model.string();
+    settings.slice.artefacts = true;
     const core::SliceResult r = core::slice_model(settings.slice, printer, run);
     const std::string gcode = store_.files().put(r.gcode);
     const nlohmann::json plan = {{"model", r.model_name}, {"z", r.z}, {"layers", r.layers}, {"finest_layers", r.finest_layers},
@@ -191,7 +192,10 @@ void JobService::run(Job job) {
                             {"open_contours", r.open_contours},
                             {"printer", printer.id},
                             {"gcode", gcode},
-                            {"plan", plan_digest}}
+                            {"plan", plan_digest},
+                            {"plot", store_.files().put(r.plot_svg)},
+                            {"model", store_.files().put(r.model_3mf)},
+                            {"saliency", store_.files().put(r.saliency_ply)}}
                  .dump();
   } catch (const core::Cancelled&) {
     end = JobState::cancelled;

@@ -54,6 +54,15 @@ CREATE TABLE api_keys (
   created_at REAL NOT NULL
 );
 )sql",
+    // 2: files uploaded to print (OctoPrint's /api/files/local), by name.
+    R"sql(
+CREATE TABLE files (
+  name TEXT PRIMARY KEY,
+  digest TEXT NOT NULL,
+  size INTEGER NOT NULL,
+  uploaded_at REAL NOT NULL
+);
+)sql",
 };
 
 }  // namespace

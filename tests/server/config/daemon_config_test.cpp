@@ -19,6 +19,9 @@ TEST_CASE("the shipped config/salientd.toml is exactly the embedded defaults") {
   REQUIRE(shipped.printers.size() == 1);
   CHECK(shipped.printers[0].id == "sim");
   CHECK(shipped.printers[0].kind == "sim");
+  CHECK(shipped.printers[0].sim_args == d.printers[0].sim_args);
+  CHECK(shipped.printers[0].autoconnect == d.printers[0].autoconnect);
+  CHECK(shipped.printers[0].profile == d.printers[0].profile);
   CHECK(d.listen.rfind("127.0.0.1:", 0) == 0);  // loopback unless configured
 }
 

@@ -1,0 +1,71 @@
+// The WebSocket /api/v1/events: who may connect, what a new subscriber sees first, and how job
+// changes become events.
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <unordered_map>
+
+#include "server/api/api_json.hpp"
+#include "server/api/routes.hpp"
+#include "server/store/job_store.hpp"
+
+namespace salient::server {
+
+WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
+  return [&hub, &keys](const HttpRequest& r) -> WebSocketAccept {
+    if (r.path != "/api/v1/events") return {nullptr, error_response(404, "not_found", "no WebSocket at " + r.path)};
+    if (!keys.valid(r))
+      return {nullptr, error_response(401, "unauthorized", "send the API key (X-Api-Key, Authorization: Bearer, or ?apikey=)")};
+    auto subscription = hub.subscribe();
+    // ?topics=jobs,printer/sim subscribes at once (a client may also send {"subscribe": […]}).
+    if (const auto it = r.query.find("topics"); it != r.query.end()) {
+      std::stringstream list(it->second);
+      for (std::string topic; std::getline(list, topic, ',');) {
+        if (!topic.empty() && !subscription->subscribe(topic)) {
+          subscription->closed();
+          return {nullptr, error_response(400, "bad_request", "unknown topic '" + topic +
+                                                                  "': use jobs, job/ID, printers, printer/ID or terminal/ID")};
+        }
+      }
+    }
+    return {subscription, {}};
+  };
+}
+
+SnapshotFn event_snapshots(Store& store, PrinterService& printers) {
+  return [&store, &printers](const std::string& topic) {
+    std::vector<std::pair<std::string, std::string>> out;
+    if (topic.rfind("job/", 0) == 0) {
+      if (auto j = JobStore(store.db()).get(topic.substr(4))) out.emplace_back("job", job_json(*j).dump());
+    } else if (topic == "printers") {
+      for (const auto& p : printers.all()) out.emplace_back("printer", p->status_json());
+    } else if (topic.rfind("printer/", 0) == 0) {
+      for (const auto& p : printers.all())
+        if (p->id() == topic.substr(8)) out.emplace_back("printer", p->status_json());
+    }
+    return out;
+  };
+}
+
+std::function<void(const Job&)> job_event_publisher(EventHub& hub) {
+  // A change of state or phase is a state change (always delivered); anything else is progress.
+  struct Seen {
+    std::mutex mutex;
+    std::unordered_map<std::string, std::string> last;
+  };
+  auto seen = std::make_shared<Seen>();
+  return [&hub, seen](const Job& j) {
+    const std::string key = std::string(to_string(j.state)) + "/" + j.phase;
+    bool progress;
+    {
+      std::lock_guard lock(seen->mutex);
+      auto& last = seen->last[j.id];
+      progress = last == key;
+      last = key;
+      if (finished(j.state)) seen->last.erase(j.id);
+    }
+    hub.publish({"jobs", "job/" + j.id}, "job", job_json(j).dump(), progress ? Delivery::coalesce : Delivery::always);
+  };
+}
+
+}  // namespace salient::server

@@ -1,0 +1,234 @@
+#include "server/events/event_hub.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+namespace salient::server {
+namespace {
+
+bool valid_id(std::string_view id) {
+  return !id.empty() && id.size() <= 64 && std::all_of(id.begin(), id.end(), [](unsigned char c) {
+    return std::isalnum(c) || c == '-' || c == '_' || c == '.';
+  });
+}
+
+std::string error_reply(const std::string& message) {
+  return EventHub::message("", "error", nlohmann::json{{"message", message}}.dump());
+}
+
+}  // namespace
+
+bool EventHub::valid_topic(const std::string& topic) {
+  if (topic == "jobs" || topic == "printers") return true;
+  for (std::string_view prefix : {"job/", "printer/", "terminal/"})
+    if (topic.rfind(prefix, 0) == 0) return valid_id(std::string_view(topic).substr(prefix.size()));
+  return false;
+}
+
+std::string EventHub::message(const std::string& topic, const std::string& type, const std::string& data_json) {
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  std::string out = "{\"type\":";
+  out += nlohmann::json(type).dump();
+  if (!topic.empty()) {
+    out += ",\"topic\":";
+    out += nlohmann::json(topic).dump();
+  }
+  out += ",\"time\":";
+  out += nlohmann::json(std::round(now * 1000) / 1000).dump();
+  out += ",\"data\":";
+  out += data_json.empty() ? "null" : data_json;
+  out += '}';
+  return out;
+}
+
+std::shared_ptr<Subscription> EventHub::subscribe(std::function<void()> wake) {
+  auto s = std::make_shared<Subscription>(*this, std::move(wake));
+  std::lock_guard lock(mutex_);
+  subscribers_.push_back(s);
+  return s;
+}
+
+void EventHub::publish(const std::vector<std::string>& topics, const std::string& type, const std::string& data_json,
+                       Delivery delivery) {
+  std::vector<std::shared_ptr<Subscription>> targets;
+  {
+    std::lock_guard lock(mutex_);
+    targets = subscribers_;
+  }
+  if (targets.empty()) return;
+  const std::string text = message(topics.empty() ? std::string() : topics.back(), type, data_json);
+  for (const auto& s : targets)
+    if (auto wake = s->offer(topics, text, delivery)) wake();
+}
+
+bool EventHub::has_subscribers(const std::string& topic) const {
+  std::lock_guard lock(mutex_);
+  return std::any_of(subscribers_.begin(), subscribers_.end(), [&](const auto& s) {
+    std::lock_guard inner(s->mutex_);
+    return s->topics_.count(topic) > 0;
+  });
+}
+
+std::size_t EventHub::subscribers() const {
+  std::lock_guard lock(mutex_);
+  return subscribers_.size();
+}
+
+void EventHub::close_all(const std::string& reason) {
+  std::vector<std::shared_ptr<Subscription>> all;
+  {
+    std::lock_guard lock(mutex_);
+    all = subscribers_;
+  }
+  for (const auto& s : all) {
+    std::function<void()> wake;
+    {
+      std::lock_guard lock(s->mutex_);
+      if (s->overflow_.empty()) s->overflow_ = reason;
+      wake = s->wake_;
+    }
+    if (wake) wake();
+  }
+}
+
+void EventHub::remove(const Subscription* s) {
+  std::lock_guard lock(mutex_);
+  std::erase_if(subscribers_, [s](const auto& p) { return p.get() == s; });
+}
+
+Subscription::Subscription(EventHub& hub, std::function<void()> wake) : hub_(hub), wake_(std::move(wake)) {}
+
+void Subscription::open(std::function<void()> wake) {
+  bool any;
+  {
+    std::lock_guard lock(mutex_);
+    wake_ = wake;
+    any = head_ < queue_.size() || !overflow_.empty();
+  }
+  if (any && wake) wake();
+}
+
+bool Subscription::subscribe(const std::string& topic) {
+  if (!EventHub::valid_topic(topic)) return false;
+  std::vector<std::pair<std::string, std::string>> snapshot;
+  if (hub_.snapshot_) snapshot = hub_.snapshot_(topic);
+  std::lock_guard lock(mutex_);
+  topics_.insert(topic);
+  for (const auto& [type, data] : snapshot) {
+    queue_.push_back({EventHub::message(topic, type, data), topic, Delivery::always});
+    ++states_;
+  }
+  return true;
+}
+
+void Subscription::unsubscribe(const std::string& topic) {
+  std::lock_guard lock(mutex_);
+  topics_.erase(topic);
+}
+
+void Subscription::push_reply(std::string text) {
+  std::function<void()> wake;
+  {
+    std::lock_guard lock(mutex_);
+    queue_.push_back({std::move(text), {}, Delivery::always});
+    ++states_;
+    wake = wake_;
+  }
+  if (wake) wake();
+}
+
+void Subscription::receive(const std::string& text) {
+  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded() || !j.is_object())
+    return push_reply(error_reply("expected a JSON object like {\"subscribe\": [\"jobs\"]}"));
+  for (const auto& [key, value] : j.items()) {
+    if (key != "subscribe" && key != "unsubscribe")
+      return push_reply(error_reply("unknown field '" + key + "': use subscribe or unsubscribe"));
+    if (!value.is_array() || !std::all_of(value.begin(), value.end(), [](const auto& t) { return t.is_string(); }))
+      return push_reply(error_reply("'" + key + "' must be an array of topic names"));
+    for (const auto& t : value) {
+      const std::string topic = t.get<std::string>();
+      if (key == "unsubscribe") {
+        unsubscribe(topic);
+      } else if (!subscribe(topic)) {
+        return push_reply(error_reply("unknown topic '" + topic +
+                                      "': use jobs, job/ID, printers, printer/ID or terminal/ID"));
+      }
+    }
+  }
+  nlohmann::json topics = nlohmann::json::array();
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& t : topics_) topics.push_back(t);
+  }
+  push_reply(EventHub::message("", "subscribed", nlohmann::json{{"topics", topics}}.dump()));
+}
+
+std::function<void()> Subscription::offer(const std::vector<std::string>& topics, const std::string& text,
+                                          Delivery delivery) {
+  std::lock_guard lock(mutex_);
+  if (closed_ || !overflow_.empty() || topics.empty()) return {};
+  if (std::none_of(topics.begin(), topics.end(), [&](const std::string& t) { return topics_.count(t) > 0; })) return {};
+  const std::string& subject = topics.back();
+  const bool was_empty = head_ == queue_.size();
+  if (delivery != Delivery::always) {
+    // The newest undelivered event about the same subject: a progress update is replaced by this
+    // one; a state change is kept, and this one goes after it, so that order is never lost.
+    for (std::size_t i = queue_.size(); delivery == Delivery::coalesce && i-- > head_;) {
+      if (queue_[i].subject != subject) continue;
+      if (queue_[i].delivery != Delivery::coalesce) break;
+      queue_[i].text = text;
+      return {};
+    }
+    if (queue_.size() - head_ >= hub_.options_.progress_limit) {
+      ++dropped_;
+      return {};
+    }
+  } else if (++states_ > hub_.options_.state_limit) {
+    overflow_ = "too slow: more than " + std::to_string(hub_.options_.state_limit) + " events waiting";
+    queue_.clear(), head_ = 0;
+    return wake_;
+  }
+  queue_.push_back({text, subject, delivery});
+  return was_empty ? wake_ : std::function<void()>{};
+}
+
+std::optional<std::string> Subscription::next() {
+  std::lock_guard lock(mutex_);
+  if (head_ == queue_.size()) return std::nullopt;
+  Entry e = std::move(queue_[head_++]);
+  if (e.delivery == Delivery::always) --states_;
+  if (head_ == queue_.size() || head_ > 1024) {
+    queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(head_));
+    head_ = 0;
+  }
+  return std::move(e.text);
+}
+
+std::string Subscription::close_reason() {
+  std::lock_guard lock(mutex_);
+  return overflow_;
+}
+
+void Subscription::closed() {
+  {
+    std::lock_guard lock(mutex_);
+    closed_ = true;
+    wake_ = nullptr;
+  }
+  hub_.remove(this);
+}
+
+std::size_t Subscription::pending() const {
+  std::lock_guard lock(mutex_);
+  return queue_.size() - head_;
+}
+
+std::size_t Subscription::dropped() const {
+  std::lock_guard lock(mutex_);
+  return dropped_;
+}
+
+}  // namespace salient::server

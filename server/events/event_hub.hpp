@@ -1,0 +1,103 @@
+// EventHub: publish/subscribe for the WebSocket /api/v1/events. Each event goes to the topics it
+// concerns ("jobs" and "job/ID", "printers" and "printer/ID", "terminal/ID"); each subscriber has
+// a bounded queue. Progress events are coalesced (a newer one replaces an undelivered older one
+// with the same key) or dropped when the queue is full; state changes are never dropped: a client
+// that lets too many pile up is disconnected with a reason instead of silently missing one.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "server/http/websocket_channel.hpp"
+
+namespace salient::server {
+
+struct EventHubOptions {
+  std::size_t progress_limit = 256;  // queued events beyond which progress is dropped
+  std::size_t state_limit = 4096;    // queued state changes beyond which the client is cut off
+};
+
+// How an event may be treated when a client falls behind.
+enum class Delivery {
+  always,       // a state change: never dropped
+  coalesce,     // progress: replaces an undelivered one about the same subject; dropped when full
+  best_effort,  // a terminal line: dropped when the queue is full
+};
+
+// A topic's current state, sent first to whoever subscribes to it: (type, data JSON) pairs.
+using SnapshotFn = std::function<std::vector<std::pair<std::string, std::string>>(const std::string& topic)>;
+
+class EventHub;
+
+class Subscription : public WebSocketChannel {
+ public:
+  Subscription(EventHub& hub, std::function<void()> wake);
+
+  // Client messages: {"subscribe": [topics]}, {"unsubscribe": [topics]}; answered with
+  // {"type": "subscribed", "data": {"topics": [...]}} or {"type": "error", …}.
+  void receive(const std::string& text) override;
+  bool subscribe(const std::string& topic);  // false: not a topic
+  void unsubscribe(const std::string& topic);
+
+  void open(std::function<void()> wake) override;
+  std::optional<std::string> next() override;
+  std::string close_reason() override;
+  void closed() override;
+
+  std::size_t pending() const;
+  std::size_t dropped() const;
+
+ private:
+  friend class EventHub;
+  struct Entry {
+    std::string text, subject;  // subject: the topic it is about ("job/ID"), for coalescing
+    Delivery delivery = Delivery::always;
+  };
+  // Queues an event; returns the wake function to call (empty: no need).
+  std::function<void()> offer(const std::vector<std::string>& topics, const std::string& text, Delivery delivery);
+  void push_reply(std::string text);
+
+  EventHub& hub_;
+  mutable std::mutex mutex_;
+  std::function<void()> wake_;
+  std::set<std::string> topics_;
+  std::vector<Entry> queue_;  // front = oldest; small, so a vector with an index
+  std::size_t head_ = 0, states_ = 0, dropped_ = 0;
+  std::string overflow_;
+  bool closed_ = false;
+};
+
+class EventHub {
+ public:
+  explicit EventHub(EventHubOptions options = {}) : options_(options) {}
+
+  void set_snapshot(SnapshotFn snapshot) { snapshot_ = std::move(snapshot); }
+  std::shared_ptr<Subscription> subscribe(std::function<void()> wake = {});
+
+  // `topics`: every topic the event belongs to (a subscriber to several gets it once); the last
+  // one is its subject.
+  void publish(const std::vector<std::string>& topics, const std::string& type, const std::string& data_json,
+               Delivery delivery = Delivery::always);
+  bool has_subscribers(const std::string& topic) const;
+  std::size_t subscribers() const;
+  void close_all(const std::string& reason);  // shutdown: every client is told to go
+
+  static bool valid_topic(const std::string& topic);
+  static std::string message(const std::string& topic, const std::string& type, const std::string& data_json);
+
+ private:
+  friend class Subscription;
+  void remove(const Subscription* s);
+
+  EventHubOptions options_;
+  SnapshotFn snapshot_;
+  mutable std::mutex mutex_;
+  std::vector<std::shared_ptr<Subscription>> subscribers_;
+};
+
+}  // namespace salient::server

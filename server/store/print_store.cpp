@@ -1,0 +1,129 @@
+#include "server/store/print_store.hpp"
+
+namespace salient::server {
+namespace {
+
+constexpr const char* columns =
+    "id, printer_id, job_id, file_digest, filename, state, confirmed, total, reason, started_at, finished_at";
+
+PrintRecord read_print(const Database::Statement& q) {
+  PrintRecord p;
+  p.id = q.integer(0);
+  p.printer_id = q.text(1);
+  if (!q.null(2)) p.job_id = q.text(2);
+  p.file_digest = q.text(3);
+  p.filename = q.text(4);
+  p.state = q.text(5);
+  p.confirmed = q.integer(6);
+  p.total = q.integer(7);
+  if (!q.null(8)) p.reason = q.text(8);
+  p.started_at = q.real(9);
+  if (!q.null(10)) p.finished_at = q.real(10);
+  return p;
+}
+
+StoredFile read_file(const Database::Statement& q) {
+  return {q.text(0), q.text(1), q.integer(2), q.real(3)};
+}
+
+}  // namespace
+
+PrintRecord PrintStore::create(const std::string& printer_id, const std::optional<std::string>& job_id,
+                               const std::string& digest, const std::string& filename, long long total, double now) {
+  db_.prepare(
+         "INSERT INTO prints (printer_id, job_id, file_digest, filename, state, confirmed, total, started_at) "
+         "VALUES (?, ?, ?, ?, 'printing', 0, ?, ?)")
+      .bind(1, std::string_view(printer_id))
+      .bind(2, job_id)
+      .bind(3, std::string_view(digest))
+      .bind(4, std::string_view(filename))
+      .bind(5, static_cast<std::int64_t>(total))
+      .bind(6, now)
+      .run();
+  return *get(db_.last_insert_id());
+}
+
+void PrintStore::set_progress(long long id, const std::string& state, long long confirmed) {
+  db_.prepare("UPDATE prints SET state = ?, confirmed = ? WHERE id = ? AND finished_at IS NULL")
+      .bind(1, std::string_view(state))
+      .bind(2, static_cast<std::int64_t>(confirmed))
+      .bind(3, static_cast<std::int64_t>(id))
+      .run();
+}
+
+void PrintStore::finish(long long id, const std::string& state, long long confirmed, const std::optional<std::string>& reason,
+                        double now) {
+  db_.prepare("UPDATE prints SET state = ?, confirmed = ?, reason = ?, finished_at = ? WHERE id = ?")
+      .bind(1, std::string_view(state))
+      .bind(2, static_cast<std::int64_t>(confirmed))
+      .bind(3, reason)
+      .bind(4, now)
+      .bind(5, static_cast<std::int64_t>(id))
+      .run();
+}
+
+std::optional<PrintRecord> PrintStore::get(long long id) {
+  auto q = db_.prepare(std::string("SELECT ") + columns + " FROM prints WHERE id = ?");
+  q.bind(1, static_cast<std::int64_t>(id));
+  if (!q.step()) return std::nullopt;
+  PrintRecord p = read_print(q);
+  q.run();
+  return p;
+}
+
+std::optional<PrintRecord> PrintStore::latest(const std::string& printer_id) {
+  auto all = list(printer_id, 1);
+  if (all.empty()) return std::nullopt;
+  return all.front();
+}
+
+std::vector<PrintRecord> PrintStore::list(const std::string& printer_id, int limit) {
+  auto q = db_.prepare(std::string("SELECT ") + columns + " FROM prints WHERE printer_id = ? ORDER BY id DESC LIMIT ?");
+  q.bind(1, std::string_view(printer_id)).bind(2, static_cast<std::int64_t>(limit));
+  std::vector<PrintRecord> out;
+  while (q.step()) out.push_back(read_print(q));
+  return out;
+}
+
+int PrintStore::mark_interrupted(double now) {
+  db_.prepare(
+         "UPDATE prints SET state = 'interrupted', reason = 'the daemon stopped during the print', finished_at = ? "
+         "WHERE finished_at IS NULL")
+      .bind(1, now)
+      .run();
+  return db_.changes();
+}
+
+void PrintStore::put_file(const std::string& name, const std::string& digest, long long size, double now) {
+  db_.prepare(
+         "INSERT INTO files (name, digest, size, uploaded_at) VALUES (?, ?, ?, ?) "
+         "ON CONFLICT (name) DO UPDATE SET digest = excluded.digest, size = excluded.size, uploaded_at = excluded.uploaded_at")
+      .bind(1, std::string_view(name))
+      .bind(2, std::string_view(digest))
+      .bind(3, static_cast<std::int64_t>(size))
+      .bind(4, now)
+      .run();
+}
+
+std::optional<StoredFile> PrintStore::file(const std::string& name) {
+  auto q = db_.prepare("SELECT name, digest, size, uploaded_at FROM files WHERE name = ?");
+  q.bind(1, std::string_view(name));
+  if (!q.step()) return std::nullopt;
+  StoredFile f = read_file(q);
+  q.run();
+  return f;
+}
+
+std::vector<StoredFile> PrintStore::files() {
+  auto q = db_.prepare("SELECT name, digest, size, uploaded_at FROM files ORDER BY uploaded_at DESC, name");
+  std::vector<StoredFile> out;
+  while (q.step()) out.push_back(read_file(q));
+  return out;
+}
+
+bool PrintStore::remove_file(const std::string& name) {
+  db_.prepare("DELETE FROM files WHERE name = ?").bind(1, std::string_view(name)).run();
+  return db_.changes() > 0;
+}
+
+}  // namespace salient::server
