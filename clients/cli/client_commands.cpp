@@ -191,6 +191,28 @@ void add_client_commands(CLI::App& app, CommandAction& action) {
     });
   }
   {
+    struct EventsOptions : ClientOptions {
+      std::vector<std::string> topics;
+    };
+    auto o = std::make_shared<EventsOptions>();
+    CLI::App* cmd = app.add_subcommand("events", "Print salientd's events as JSON lines until interrupted");
+    cmd->add_option("topics", o->topics, "jobs, job/ID, printers, printer/ID, terminal/ID")->required();
+    add_client_options(*cmd, *o);
+    cmd->callback([o, &action] {
+      action = [o] {
+        return guarded([&] {
+          DaemonClient client(resolve_daemon(o->server, o->key));
+          client.watch(o->topics, [](const std::string& text) {
+            std::printf("%s\n", text.c_str());
+            std::fflush(stdout);
+            return true;
+          });
+          return 0;
+        });
+      };
+    });
+  }
+  {
     auto o = std::make_shared<ClientOptions>();
     CLI::App* cmd = app.add_subcommand("printers", "Show salientd's printers: state, temperatures, print progress");
     add_client_options(*cmd, *o);

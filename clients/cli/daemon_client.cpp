@@ -116,8 +116,7 @@ DaemonReply DaemonClient::upload(const std::string& target, const std::string& f
 }
 
 void DaemonClient::watch(const std::vector<std::string>& topics, const std::function<bool(const std::string&)>& on_message) {
-  std::string target = "/api/v1/events?topics=";
-  for (std::size_t i = 0; i < topics.size(); ++i) target += (i ? "," : "") + topics[i];
+  const std::string target = "/api/v1/events";
   websocket::stream<beast::tcp_stream> ws(impl_->io);
   beast::error_code ec;
   beast::get_lowest_layer(ws).connect(impl_->resolve(), ec);
@@ -130,6 +129,11 @@ void DaemonClient::watch(const std::vector<std::string>& topics, const std::func
     const int status = static_cast<int>(refusal.result_int());
     throw DaemonError(status, status >= 400 ? error_message(refusal.body(), status) : "WebSocket handshake: " + ec.message());
   }
+  // Subscribing by message (not ?topics=) makes the daemon answer "subscribed" once the
+  // subscription holds: from then on no event is missed.
+  ws.text(true);
+  ws.write(asio::buffer(nlohmann::json{{"subscribe", topics}}.dump()), ec);
+  if (ec) throw DaemonError(0, "event stream: " + ec.message());
   beast::flat_buffer buffer;
   for (;;) {
     ws.read(buffer, ec);

@@ -10,6 +10,9 @@
 namespace salient::server {
 
 PrinterService::PrinterService(const DaemonConfig& config, Store& store, EventHub& hub) : store_(store), hub_(hub) {
+  // Prints a previous run left unfinished: interrupted, before any printer reads its last print.
+  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  PrintStore(store_.db()).mark_interrupted(now);
   for (const PrinterConfig& p : config.printers) {
     Printer::Hooks hooks;
     hooks.changed = [&hub](const Printer& printer, bool progress) {
@@ -31,8 +34,6 @@ PrinterService::PrinterService(const DaemonConfig& config, Store& store, EventHu
 PrinterService::~PrinterService() { stop(); }
 
 void PrinterService::start() {
-  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  PrintStore(store_.db()).mark_interrupted(now);
   for (auto& p : printers_) p->start();
 }
 

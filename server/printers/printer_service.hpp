@@ -17,11 +17,11 @@ namespace salient::server {
 
 class PrinterService {
  public:
+  // Marks prints a previous run left unfinished as interrupted.
   PrinterService(const DaemonConfig& config, Store& store, EventHub& hub);
   ~PrinterService();
 
-  // Marks prints a previous run left unfinished as interrupted; starts every printer's thread.
-  void start();
+  void start();  // every printer's thread (autoconnect ones connect)
   void stop();
 
   Printer& get(const std::string& id);  // ApiError 404

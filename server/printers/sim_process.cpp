@@ -3,18 +3,17 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
 #include <thread>
-
-extern char** environ;
 
 namespace salient::server {
 
@@ -57,29 +56,32 @@ std::vector<std::string> split_args(const std::string& text) {
 SimProcess::SimProcess(const std::string& program, const std::vector<std::string>& args) {
   int out[2];
   if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error("pipe: cannot start " + program);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  sigset_t none;
-  sigemptyset(&none);
-  posix_spawnattr_setsigmask(&attr, &none);  // the daemon blocks SIGTERM in its threads; the child must not
-  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGMASK);
   std::vector<std::string> argv_text{program};
   argv_text.insert(argv_text.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (auto& a : argv_text) argv.push_back(a.data());
   argv.push_back(nullptr);
-  const int rc = posix_spawnp(&pid_, program.c_str(), &actions, &attr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  posix_spawnattr_destroy(&attr);
+  const pid_t parent = getpid();
+  pid_ = fork();
+  if (pid_ == 0) {
+    // The child, until exec: async-signal-safe calls only. It dies with the daemon, even a
+    // kill -9'd one, so that no simulator is left holding a pseudo-terminal.
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) _exit(127);
+    dup2(out[1], STDOUT_FILENO);
+    const int null = open("/dev/null", O_RDONLY);
+    if (null >= 0) dup2(null, STDIN_FILENO);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);  // the daemon blocks SIGTERM in its threads
+    execvp(argv[0], argv.data());
+    _exit(127);
+  }
+  const int spawn_error = pid_ < 0 ? errno : 0;
   close(out[1]);
-  if (rc != 0) {
+  if (pid_ < 0) {
     close(out[0]);
-    pid_ = -1;
-    throw std::runtime_error("cannot start " + program + ": " + std::strerror(rc));
+    throw std::runtime_error("cannot start " + program + ": " + std::strerror(spawn_error));
   }
   // Its first line is the device path.
   std::string line;
@@ -96,7 +98,8 @@ SimProcess::SimProcess(const std::string& program, const std::vector<std::string
   const std::size_t nl = line.find('\n');
   if (nl == std::string::npos || line.rfind("/dev/", 0) != 0) {
     stop();
-    throw std::runtime_error(program + " did not report its device (is salient-sim built? set SALIENT_SIM)");
+    throw std::runtime_error(program + " did not report a device: is salient-sim built, and are its sim_args right? "
+                             "(see salientd's log; SALIENT_SIM names the program)");
   }
   device_ = line.substr(0, nl);
 }

@@ -113,7 +113,7 @@ std::optional<Job> JobStore::start_next(double now) {
   if (!q.step()) return std::nullopt;
   Job j = read_job(q);
   q.run();
-  db_.prepare("UPDATE jobs SET state = 'running', attempts = attempts + 1, started_at = ?, phase = '', progress = 0 WHERE id = ?")
+  db_.prepare("UPDATE jobs SET state = 'running', attempts = attempts + 1, started_at = ?, phase = 'load', progress = 0 WHERE id = ?")
       .bind(1, now)
       .bind(2, std::string_view(j.id))
       .run();
