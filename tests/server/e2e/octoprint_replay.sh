@@ -1,0 +1,106 @@
+#!/usr/bin/env bash
+# The OctoPrint API as slicers use it, replayed against salientd with a simulated printer:
+#  - PrusaSlicer (src/slic3r/Utils/OctoPrint.cpp): GET /api/version with X-Api-Key, accepted when
+#    the JSON has "api" and "text" starts with "OctoPrint"; then POST /api/files/local, multipart
+#    fields in its order: print=true, path (empty), file. The file must print on the simulator,
+#    exactly.
+#  - Cura's OctoPrint plugin: settings, version, passive login, printer profiles, printer and job
+#    polling, an upload with select and print, the Location header, job control and commands.
+#   octoprint_replay.sh SALIENTD SALIENT MODELS_DIR WORKDIR
+set -euo pipefail
+salientd=$1 salient=$2 models=$3 work=$4
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+pid=
+trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null || true' EXIT
+fail() { echo "FAIL: $*"; tail -20 daemon.log; exit 1; }
+field() { python3 -c "import json,sys; d=json.load(sys.stdin); print(eval('d' + sys.argv[1]))" "$1"; }
+
+cat > sim.toml <<TOML
+[[printers]]
+id = "sim"
+kind = "sim"
+sim_args = "--advanced-ok --emergency-parser --autoreport --time-scale 0 --log $PWD/sim.log"
+TOML
+"$salientd" --data data --listen 127.0.0.1:0 --config sim.toml 2>daemon.log &
+pid=$!
+for _ in $(seq 600); do grep -q "listening on" daemon.log 2>/dev/null && break; sleep 0.05; done
+base=$(grep -o "http://127.0.0.1:[0-9]*" daemon.log | tail -1)
+[ -n "$base" ] || fail "salientd did not start"
+key=$(cat data/api-key)
+"$salient" slice "$models/cube_binary.ply" --height 10 -o cube.gcode > /dev/null
+wait_idle() {  # until the printer is operational and its last print is FILE, finished
+  for _ in $(seq 600); do
+    s=$(curl -s -H "X-Api-Key: $key" "$base/api/v1/printers/sim")
+    echo "$s" | python3 -c "
+import json, sys
+d = json.load(sys.stdin)
+p = d['last_print'] or {}
+sys.exit(0 if d['state'] == 'operational' and p.get('state') == 'finished' and p.get('file') == sys.argv[1] else 1)" "$1" &&
+      return 0
+    sleep 0.1
+  done
+  fail "the printer did not finish $1: $s"
+}
+wait_operational() {
+  for _ in $(seq 200); do
+    [ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" "$base/api/printer")" = 200 ] && return 0
+    sleep 0.1
+  done
+  fail "the printer never became operational"
+}
+wait_operational
+
+# PrusaSlicer: the connection test, then the upload with print=true.
+curl -s -f -A "PrusaSlicer/2.6.1" -H "X-Api-Key: $key" "$base/api/version" > version.json || fail "version"
+python3 - version.json <<'PY' || fail "PrusaSlicer would reject /api/version: $(cat version.json)"
+import json, sys
+v = json.load(open(sys.argv[1]))
+assert "api" in v and v.get("text", "OctoPrint").startswith("OctoPrint")
+PY
+status=$(curl -s -A "PrusaSlicer/2.6.1" -H "X-Api-Key: $key" -D headers.txt -o upload.json -w '%{http_code}' \
+  -F "print=true" -F "path=" -F "file=@cube.gcode;filename=cube.gcode" "$base/api/files/local")
+[ "$status" = 201 ] || fail "PrusaSlicer upload: $status $(cat upload.json)"
+grep -qi "^location: http://127.0.0.1:[0-9]*/api/files/local/cube.gcode" headers.txt || fail "no Location: $(cat headers.txt)"
+[ "$(field "['done']" < upload.json)" = True ] && [ "$(field "['effectivePrint']" < upload.json)" = True ] || fail "upload body"
+wait_idle cube.gcode
+sleep 0.5  # the simulator writes its log when idle
+python3 - cube.gcode sim.log <<'PY' || fail "the simulator's log differs from the uploaded G-code"
+import sys
+want = [l.split(';')[0].strip() for l in open(sys.argv[1])]
+want = [l for l in want if l]
+got = [l.strip() for l in open(sys.argv[2]) if l.strip() and l.split()[0] not in ('M110', 'M115', 'M155', 'M105')]
+assert got == want, f"{len(got)} executed vs {len(want)} in the file"
+print(f"PrusaSlicer upload printed: {len(got)} commands, exactly the file's")
+PY
+
+# Cura: its sequence of calls, an upload that selects without printing, then starts the job.
+for path in /api/settings /api/version /api/printerprofiles /api/printer /api/job /api/server /api/files; do
+  curl -s -f -A "Cura/5.4.0" -H "X-Api-Key: $key" -o out.json "$base$path" || fail "Cura: GET $path"
+  python3 -c "import json; json.load(open('out.json'))" || fail "Cura: $path is not JSON"
+done
+curl -s -f -H "X-Api-Key: $key" -H "Content-Type: application/json" -d '{"passive": true}' "$base/api/login" \
+  | field "['name']" > /dev/null || fail "passive login"
+[ "$(curl -s -H "X-Api-Key: $key" "$base/api/printerprofiles" | field "['profiles']['sim']['heatedBed']")" = True ] || fail "profiles"
+[ "$(curl -s -H "X-Api-Key: $key" "$base/api/printer" | field "['state']['flags']['ready']")" = True ] || fail "printer flags"
+cp cube.gcode "cura cube.gcode"
+status=$(curl -s -A "Cura/5.4.0" -H "X-Api-Key: $key" -D headers.txt -o upload.json -w '%{http_code}' \
+  -F "path=" -F "file=@cura cube.gcode" -F "select=true" -F "print=false" "$base/api/files/local")
+[ "$status" = 201 ] || fail "Cura upload: $status $(cat upload.json)"
+location=$(grep -i "^location:" headers.txt | tr -d '\r' | cut -d' ' -f2)
+[ "$(curl -s -H "X-Api-Key: $key" "$location" | field "['name']")" = cura_cube.gcode ] || fail "Location $location"
+[ "$(curl -s -H "X-Api-Key: $key" "$base/api/job" | field "['job']['file']['name']")" = cura_cube.gcode ] || fail "selected file"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" -H "Content-Type: application/json" \
+  -d '{"command": "start"}' "$base/api/job")" = 204 ] || fail "POST /api/job start"
+wait_idle cura_cube.gcode
+[ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" -H "Content-Type: application/json" \
+  -d '{"commands": ["M106 S128", "M107"]}' "$base/api/printer/command")" = 204 ] || fail "printer/command"
+sleep 0.5
+tail -2 sim.log | tr '\n' ' ' | grep -q "M106 S128 M107" || fail "commands not executed: $(tail -3 sim.log)"
+# What OctoPrint refuses, salientd refuses the same way.
+[ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" -F "file=@$models/cube_binary.ply" "$base/api/files/local")" = 415 ] \
+  || fail "a model uploaded as G-code"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -F "file=@cube.gcode" "$base/api/files/local")" = 401 ] || fail "upload without key"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" -H "Content-Type: application/json" -d '{"command": "pause", "action": "pause"}' "$base/api/job")" = 409 ] \
+  || fail "pause with nothing printing"
+kill -TERM "$pid"; wait "$pid" || true; pid=
+echo "ok: PrusaSlicer and Cura uploads replayed and printed"
