@@ -1,0 +1,218 @@
+// A Printer against the real simulator on a pseudo-terminal (salient-sim, started by the Printer
+// as the daemon does): connect, print exactly, pause and resume, cancel, the 409s, emergency
+// stop, and a stop in the middle of a print that leaves it resumable — and the resume finishes
+// exactly the rest of the file.
+#include <doctest/doctest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "protocol/marlin/line_codec.hpp"
+#include "server/http/router.hpp"
+#include "server/printers/printer.hpp"
+#include "server/printers/sim_process.hpp"
+#include "tests/support/scratch_dir.hpp"
+
+using namespace salient::server;
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+namespace {
+
+// A G-code file of n moves (with comments and blank lines, as slicers write them).
+std::string make_gcode(int n) {
+  std::string g = "; test print\nM104 S200\nM140 S60\nG28\nG90\nM82\nG92 E0\n\n";
+  for (int i = 0; i < n; ++i) {
+    g += "G1 X" + std::to_string(10 + i % 100) + " Y" + std::to_string(10 + (i / 100) % 100) + " E" +
+         std::to_string(i * 0.01).substr(0, 6) + " F3000 ; move " + std::to_string(i) + "\n";
+    if (i % 500 == 0) g += ";LAYER_CHANGE\n";
+  }
+  return g + "M104 S0\nM140 S0\nM84\n";
+}
+
+std::vector<std::string> commands_of(const std::string& gcode) {
+  std::vector<std::string> out;
+  std::istringstream in(gcode);
+  for (std::string line; std::getline(in, line);)
+    if (auto c = salient::protocol::marlin::strip_comment(line); !c.empty()) out.push_back(c);
+  return out;
+}
+
+// The simulator's log without what the host adds (M110, M115, M155, M105).
+std::vector<std::string> executed(const std::filesystem::path& log) {
+  std::vector<std::string> out;
+  std::ifstream in(log);
+  for (std::string line; std::getline(in, line);) {
+    const std::string word = line.substr(0, line.find(' '));
+    if (!line.empty() && word != "M110" && word != "M115" && word != "M155" && word != "M105") out.push_back(line);
+  }
+  return out;
+}
+
+json status(const Printer& p) { return json::parse(p.status_json()); }
+
+template <typename F>
+bool eventually(F&& ok, std::chrono::milliseconds limit = 20s) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < until) {
+    if (ok()) return true;
+    std::this_thread::sleep_for(10ms);
+  }
+  return ok();
+}
+
+struct Fixture {
+  salient::test::ScratchDir dir;
+  Store store;
+  std::atomic<int> state_events{0}, progress_events{0};
+  explicit Fixture(const std::string& name) : dir(name), store(dir.path / "data") {
+    ::setenv("SALIENT_SIM", SALIENT_SIM_PROGRAM, 1);
+  }
+  PrinterConfig sim(const std::string& args) {
+    PrinterConfig c;
+    c.id = "sim";
+    c.sim_args = args + " --log " + (dir.path / "sim.log").string();
+    return c;
+  }
+  Printer::Hooks hooks() {
+    Printer::Hooks h;
+    h.changed = [this](const Printer&, bool progress) { ++(progress ? progress_events : state_events); };
+    return h;
+  }
+  PrintRequest file(const std::string& gcode) { return {std::nullopt, store.files().put(gcode), "test.gcode", 0}; }
+};
+
+}  // namespace
+
+TEST_CASE("connect, print exactly, refuse what the state does not allow, and tell about it") {
+  Fixture f("printer-print");
+  Printer p(f.sim("--advanced-ok --time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  CHECK(status(p)["firmware"].get<std::string>().find("Marlin") != std::string::npos);
+  CHECK_THROWS_AS(p.connect(), ApiError);  // already connected
+  CHECK_THROWS_AS(p.pause(), ApiError);    // nothing to pause
+
+  const std::string gcode = make_gcode(20000);
+  const long long id = p.print(f.file(gcode));
+  CHECK(p.state() == "printing");
+  try {
+    p.print(f.file(gcode));
+    FAIL("a second print was accepted");
+  } catch (const ApiError& e) {
+    CHECK(e.status() == 409);
+  }
+  CHECK_THROWS_AS(p.command({"G28"}), ApiError);
+  CHECK_THROWS_AS(p.disconnect(), ApiError);
+  REQUIRE(eventually([&] { return p.state() == "operational"; }, 60s));
+  const json s = status(p);
+  CHECK(s["last_print"]["id"] == id);
+  CHECK(s["last_print"]["state"] == "finished");
+  CHECK(s["last_print"]["confirmed"] == s["last_print"]["total"]);
+  CHECK(s["last_print"]["total"] == commands_of(gcode).size());
+  CHECK(f.state_events >= 3);  // connecting, operational, printing, …
+  CHECK(f.progress_events >= 1);
+  CHECK(p.counters().prints_finished == 1);
+  p.stop();  // the simulator flushes its log as it exits
+  CHECK(executed(f.dir.path / "sim.log") == commands_of(gcode));
+  // The database has it too, for the next start.
+  const auto stored = PrintStore(f.store.db()).get(id);
+  REQUIRE(stored);
+  CHECK(stored->state == "finished");
+}
+
+TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down") {
+  Fixture f("printer-pause");
+  Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  p.print(f.file(make_gcode(5000)));
+  REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 50; }));
+  p.pause();
+  CHECK(p.state() == "paused");
+  std::this_thread::sleep_for(500ms);  // what was in flight settles
+  const long long held = status(p)["print"]["confirmed"];
+  std::this_thread::sleep_for(500ms);
+  CHECK(status(p)["print"]["confirmed"] == held);
+  p.resume();
+  REQUIRE(eventually([&] { return status(p)["print"]["confirmed"] > held; }));
+  p.cancel();
+  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  CHECK(status(p)["last_print"]["state"] == "cancelled");
+  p.stop();
+  const auto log = executed(f.dir.path / "sim.log");
+  REQUIRE(log.size() > 3);
+  CHECK(std::find(log.end() - 8, log.end(), "M104 S0") != log.end());  // heaters off after the cancel
+}
+
+TEST_CASE("a stop mid-print leaves it interrupted and resumable; the resume prints exactly the rest") {
+  Fixture f("printer-resume");
+  const std::string gcode = make_gcode(8000);
+  long long id = 0, confirmed = 0;
+  {
+    Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
+    p.start();
+    REQUIRE(eventually([&] { return p.state() == "operational"; }));
+    id = p.print(f.file(gcode));
+    REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 200; }));
+    p.stop();
+    const auto r = PrintStore(f.store.db()).get(id);
+    REQUIRE(r);
+    CHECK(r->state == "interrupted");
+    confirmed = r->confirmed;
+    CHECK(confirmed > 200);
+    CHECK(confirmed < r->total);
+  }
+  std::filesystem::rename(f.dir.path / "sim.log", f.dir.path / "first.log");
+  Printer p(f.sim("--advanced-ok --time-scale 0"), f.store, f.hooks());
+  CHECK(status(p)["last_print"]["resumable"] == true);
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  const auto record = PrintStore(f.store.db()).get(id);
+  p.print({record->job_id, record->file_digest, record->filename, static_cast<std::size_t>(record->confirmed)});
+  REQUIRE(eventually([&] { return p.state() == "operational"; }, 60s));
+  CHECK(status(p)["last_print"]["state"] == "finished");
+  p.stop();
+  const auto all = commands_of(gcode);
+  const std::vector<std::string> rest(all.begin() + confirmed, all.end());
+  const auto log = executed(f.dir.path / "sim.log");
+  REQUIRE(log.size() >= rest.size());
+  // The prelude (heat, modes, position) first, then exactly the commands not yet acknowledged.
+  CHECK(std::vector<std::string>(log.end() - static_cast<std::ptrdiff_t>(rest.size()), log.end()) == rest);
+}
+
+TEST_CASE("emergency stop halts the firmware; the printer reports an error until connected again") {
+  Fixture f("printer-estop");
+  Printer p(f.sim("--advanced-ok --emergency-parser --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  p.print(f.file(make_gcode(5000)));
+  REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 10; }));
+  p.emergency_stop();
+  REQUIRE(eventually([&] { return p.state() == "error"; }));
+  CHECK(status(p)["last_print"]["state"] == "failed");
+  CHECK(status(p)["error"].get<std::string>().find("emergency stop") != std::string::npos);
+  CHECK_THROWS_AS(p.command({"G28"}), ApiError);
+  p.connect();  // a fresh simulator, as a reset board
+  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  p.command({"M106 S255", "M107"});
+  p.stop();
+}
+
+TEST_CASE("a simulator that cannot start is an error naming it, not a hang") {
+  Fixture f("printer-bad-sim");
+  Printer p(f.sim("--bufsize 7"), f.store, f.hooks());  // salient-sim refuses it
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == "error"; }));
+  CHECK(status(p)["error"].get<std::string>().find("cannot connect") != std::string::npos);
+}
+
+TEST_CASE("sim_args split like a shell would") {
+  CHECK(split_args("--a 1  --b 'x y' \"z\"") == std::vector<std::string>{"--a", "1", "--b", "x y", "z"});
+  CHECK(split_args("").empty());
+  CHECK_THROWS_AS(split_args("--log 'open"), std::invalid_argument);
+}
