@@ -86,6 +86,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_printer_routes(router, printers, store, config);
   add_octoprint_routes(router, store, printers, config);
   add_metrics_route(router, metrics, store, printers, hub);
+  add_event_route(router);
   http.websocket = events_endpoint(hub, keys);
   HttpServer server(http, router);
   const unsigned short port = server.start();

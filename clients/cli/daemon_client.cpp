@@ -123,11 +123,10 @@ void DaemonClient::watch(const std::vector<std::string>& topics, const std::func
   if (ec) throw DaemonError(0, "cannot reach salientd at " + impl_->address.host + ":" + impl_->address.port + ": " + ec.message());
   const std::string key = impl_->address.key;
   ws.set_option(websocket::stream_base::decorator([key](websocket::request_type& r) { r.set("X-Api-Key", key); }));
-  websocket::response_type refusal;
-  ws.handshake(refusal, impl_->address.host + ":" + impl_->address.port, target, ec);
+  ws.handshake(impl_->address.host + ":" + impl_->address.port, target, ec);
   if (ec) {
-    const int status = static_cast<int>(refusal.result_int());
-    throw DaemonError(status, status >= 400 ? error_message(refusal.body(), status) : "WebSocket handshake: " + ec.message());
+    request("GET", target);  // a plain GET says why (401 bad key…) and throws
+    throw DaemonError(0, "WebSocket handshake: " + ec.message());
   }
   // Subscribing by message (not ?topics=) makes the daemon answer "subscribed" once the
   // subscription holds: from then on no event is missed.

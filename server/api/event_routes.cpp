@@ -32,6 +32,17 @@ WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
   };
 }
 
+void add_event_route(Router& router) {
+  // The same path without an upgrade: say how to connect (and, through the router, 401 first).
+  router.add("GET", "/api/v1/events", Access::key, [](const HttpRequest&, const PathParams&) {
+    HttpResponse r = error_response(426, "upgrade_required",
+                                    "/api/v1/events is a WebSocket: connect with Upgrade: websocket, then send "
+                                    "{\"subscribe\": [\"jobs\"]}");
+    r.headers.emplace_back("Upgrade", "websocket");
+    return r;
+  });
+}
+
 SnapshotFn event_snapshots(Store& store, PrinterService& printers) {
   return [&store, &printers](const std::string& topic) {
     std::vector<std::pair<std::string, std::string>> out;

@@ -26,7 +26,8 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
 // /metrics (Prometheus text).
 void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers, const EventHub& hub);
 
-// The WebSocket /api/v1/events (keyed; ?topics=a,b subscribes at once).
+// The WebSocket /api/v1/events (keyed; ?topics=a,b subscribes at once), and 426 for a plain GET.
+void add_event_route(Router& router);
 WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys);
 // What a new subscriber to a topic sees first: the job's or printers' current state.
 SnapshotFn event_snapshots(Store& store, PrinterService& printers);
