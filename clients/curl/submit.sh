@@ -1,0 +1,8 @@
+#!/usr/bin/env bash
+# submit.sh MODEL [SETTINGS-JSON]: sends a model to slice; prints the job (its "id" is what the
+# other scripts take).   e.g. submit.sh bunny.obj '{"up": "y", "height": 40}'
+set -euo pipefail
+. "$(dirname "$0")/common.sh"
+[ $# -ge 1 ] || { echo "usage: $0 MODEL [SETTINGS-JSON]" >&2; exit 2; }
+api POST /api/v1/jobs -F "file=@$1" ${2:+-F "settings=$2"}
+echo
