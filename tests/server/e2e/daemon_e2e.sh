@@ -127,7 +127,7 @@ wait_printer operational
 curl -s -f -o print.json -H "X-Api-Key: $key" -d "{\"job\": \"$id\"}" "$base/api/v1/printers/sim/print" || fail "print"
 expect 409 printer_busy -H "X-Api-Key: $key" -d "{\"job\": \"$id\"}" "$base/api/v1/printers/sim/print"
 expect 409 printer_busy -H "X-Api-Key: $key" -d '{"commands": ["G28"]}' "$base/api/v1/printers/sim/command"
-for _ in $(seq 1200); do
+for _ in $(seq 3000); do  # 257,669 commands: ~10 s here, several times that under sanitizers
   [ "$(printer_field "['last_print']['state'] if d['last_print'] else ''")" = finished ] && break
   sleep 0.1
 done

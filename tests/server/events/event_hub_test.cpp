@@ -89,7 +89,7 @@ TEST_CASE("past the state limit the client is cut off with a reason instead of m
   CHECK(!s->next());
 }
 
-TEST_CASE("a new subscriber gets the topic's snapshot first, then 'subscribed'; bad messages get an error") {
+TEST_CASE("a new subscriber gets the topic's snapshot first, then 'subscribed', and bad messages get an error") {
   EventHub hub;
   hub.set_snapshot([](const std::string& topic) {
     std::vector<std::pair<std::string, std::string>> out;

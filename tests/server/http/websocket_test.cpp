@@ -86,7 +86,7 @@ std::string upgrade_status(unsigned short port, const std::string& path, const s
   return in.substr(0, in.find("\r\n"));
 }
 
-TEST_CASE("an upgrade without the key is refused with the HTTP status; a wrong path is 404") {
+TEST_CASE("an upgrade without the key is refused with the HTTP status, a wrong path is 404") {
   Running s;
   CHECK(upgrade_status(s.port, "/events", "wrong").rfind("HTTP/1.1 401", 0) == 0);
   CHECK(upgrade_status(s.port, "/elsewhere", "k").rfind("HTTP/1.1 404", 0) == 0);

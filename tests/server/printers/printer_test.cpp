@@ -149,7 +149,7 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   CHECK(std::find(log.end() - 8, log.end(), "M104 S0") != log.end());  // heaters off after the cancel
 }
 
-TEST_CASE("a stop mid-print leaves it interrupted and resumable; the resume prints exactly the rest") {
+TEST_CASE("a stop mid-print leaves it interrupted and resumable, and the resume prints exactly the rest") {
   Fixture f("printer-resume");
   const std::string gcode = make_gcode(8000);
   long long id = 0, confirmed = 0;
@@ -185,7 +185,7 @@ TEST_CASE("a stop mid-print leaves it interrupted and resumable; the resume prin
   CHECK(std::vector<std::string>(log.end() - static_cast<std::ptrdiff_t>(rest.size()), log.end()) == rest);
 }
 
-TEST_CASE("emergency stop halts the firmware; the printer reports an error until connected again") {
+TEST_CASE("emergency stop halts the firmware, and the printer reports an error until connected again") {
   Fixture f("printer-estop");
   Printer p(f.sim("--advanced-ok --emergency-parser --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
   p.start();
