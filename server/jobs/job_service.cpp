@@ -1,5 +1,8 @@
 #include "server/jobs/job_service.hpp"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <chrono>
 #include <nlohmann/json.hpp>
 
@@ -127,6 +130,9 @@ bool JobService::cancel(const std::string& id) {
 }
 
 void JobService::work() {
+  // Slicing is batch work: below the HTTP threads and the printers' streaming threads, which must
+  // answer in milliseconds. The thread pool the saliency solver starts from here inherits it.
+  if (options_.nice > 0) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), options_.nice);
   for (;;) {
     std::optional<Job> job;
     {

@@ -25,6 +25,7 @@ struct JobServiceOptions {
   int workers = 1;
   int queue_limit = 32;
   std::size_t max_json_depth = 32;
+  int nice = 10;  // workers' scheduling priority (Linux nice, per thread); 0 leaves it
 };
 
 class JobService {

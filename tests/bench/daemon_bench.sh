@@ -39,5 +39,10 @@ run_wrk "GET /api/v1/printers/sim, a job slicing" /api/v1/printers/sim "X-Api-Ke
 echo "  (the job was $(curl -s -H "X-Api-Key: $key" "$base/api/v1/jobs/$id" | python3 -c "import json,sys; d=json.load(sys.stdin); print(d['state'], d['phase'])") when wrk ended)"
 curl -s -o /dev/null -X DELETE -H "X-Api-Key: $key" "$base/api/v1/jobs/$id"
 sleep 1
+done_id=$(curl -s -H "X-Api-Key: $key" -F "file=@$models/cube_binary.ply" "$base/api/v1/jobs" |
+  python3 -c "import json,sys; print(json.load(sys.stdin)['id'])")
+sleep 1
+run_wrk "GET /api/v1/jobs/{id} (a finished job)" "/api/v1/jobs/$done_id" "X-Api-Key: $key"
 echo "WebSocket fan-out: 200 subscribers to 'jobs', 5 jobs submitted"
 "$build/tests/bench/events_fanout_bench" 127.0.0.1 "$port" "$key" "$models/cube_binary.ply" 200 5
+echo "memory after all this: salientd $(awk '/VmRSS/ {print $2}' /proc/$pid/status) KB RSS"
