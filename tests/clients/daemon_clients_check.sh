@@ -4,22 +4,13 @@
 #   daemon_clients_check.sh SALIENTD SALIENT SOURCE_DIR MODELS_DIR WORKDIR
 set -euo pipefail
 salientd=$1 salient=$2 src=$3 models=$4 work=$5
+here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
-pid=
+. "$here/../support/salientd.sh"
 trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null || true' EXIT
-fail() { echo "FAIL: $*"; tail -20 daemon.log; exit 1; }
-cat > sim.toml <<TOML
-[[printers]]
-id = "sim"
-kind = "sim"
-sim_args = "--advanced-ok --time-scale 0"
-TOML
-"$salientd" --data var --listen 127.0.0.1:0 --config sim.toml 2>daemon.log &
-pid=$!
-for _ in $(seq 600); do grep -q "listening on" daemon.log 2>/dev/null && break; sleep 0.05; done
-export SALIENT_SERVER
-SALIENT_SERVER=$(grep -o "http://127.0.0.1:[0-9]*" daemon.log | tail -1)
-[ -n "$SALIENT_SERVER" ] || fail "salientd did not start"
+sim_config sim.toml "--advanced-ok --time-scale 0"
+start sim.toml var
+export SALIENT_SERVER=$base
 # No key in the environment: the CLI and the scripts read var/api-key, as after `make run`.
 
 "$salient" submit "$models/suzanne.obj" --settings '{"height": 20}' --wait -o suzanne.gcode --print sim > submit.out 2> submit.err \
@@ -57,5 +48,5 @@ for _ in $(seq 300); do "$curl_dir/status.sh" "$job" | grep -q '"state":"done"' 
 "$curl_dir/cancel.sh" print > /dev/null 2>&1 || true  # may already be done: instant simulator
 "$curl_dir/cancel.sh" job "$job" > /dev/null || fail "cancel.sh job (removes a finished job)"
 "$curl_dir/status.sh" "$job" > /dev/null 2>&1 && fail "the removed job is still there"
-kill -TERM "$pid"; wait "$pid" || true; pid=
+stop
 echo "ok: salient client commands and curl scripts"

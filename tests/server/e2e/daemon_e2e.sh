@@ -8,31 +8,15 @@
 #   daemon_e2e.sh SALIENTD SALIENT MODELS_DIR WORKDIR
 set -euo pipefail
 salientd=$1 salient=$2 models=$3 work=$4
+here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
-pid=
+. "$here/../../support/salientd.sh"
 watcher=
 cleanup() {
   [ -n "$pid" ] && kill -9 "$pid" 2>/dev/null || true
   [ -n "$watcher" ] && kill "$watcher" 2>/dev/null || true
 }
 trap cleanup EXIT
-fail() { echo "FAIL: $*"; tail -20 daemon.log; exit 1; }
-
-start() {  # start [CONFIG]: runs salientd on a free port, sets $base and $key
-  local before
-  before=$(grep -c "listening on" daemon.log 2>/dev/null || true)
-  "$salientd" --data data --listen 127.0.0.1:0 ${1:+--config "$1"} 2>>daemon.log &
-  pid=$!
-  for _ in $(seq 600); do  # a sanitizer build starts slowly
-    [ "$(grep -c "listening on" daemon.log 2>/dev/null || true)" -gt "${before:-0}" ] && break
-    sleep 0.05
-  done
-  [ "$(grep -c "listening on" daemon.log)" -gt "${before:-0}" ] || fail "salientd did not start"
-  base=$(grep -o "http://127.0.0.1:[0-9]*" daemon.log | tail -1)
-  key=$(cat data/api-key)
-}
-stop() { kill -TERM "$pid"; wait "$pid" || true; pid=; }
-field() { python3 -c "import json,sys; d=json.load(sys.stdin); print(eval('d' + sys.argv[1]))" "$1"; }
 expect() {  # expect STATUS CODE CURL-ARGS…: the status and the error code of the JSON body
   local status=$1 code=$2; shift 2
   local got
@@ -51,12 +35,7 @@ wait_state() {  # wait_state ID STATE
 }
 
 # The simulated printer: instant moves and heating, its executed commands logged.
-cat > sim.toml <<TOML
-[[printers]]
-id = "sim"
-kind = "sim"
-sim_args = "--advanced-ok --emergency-parser --autoreport --time-scale 0 --log $PWD/sim.log"
-TOML
+sim_config sim.toml "--advanced-ok --emergency-parser --autoreport --time-scale 0 --log $PWD/sim.log"
 printer_field() { curl -s -H "X-Api-Key: $key" "$base/api/v1/printers/sim" | field "$1"; }
 wait_printer() {  # wait_printer STATE: until the printer is in STATE
   for _ in $(seq 1200); do
@@ -64,23 +43,6 @@ wait_printer() {  # wait_printer STATE: until the printer is in STATE
     sleep 0.1
   done
   fail "printer never became $1: $(curl -s -H "X-Api-Key: $key" "$base/api/v1/printers/sim")"
-}
-# The G-code's commands (comments and blank lines gone) against what the simulator executed,
-# without what the host adds on its own (M110 numbering, M115 handshake, M155/M105 temperatures).
-same_commands() {  # same_commands GCODE LOG
-  python3 - "$1" "$2" <<'PY' || fail "the simulator's log differs from the G-code"
-import sys
-want = [l.split(';')[0].strip() for l in open(sys.argv[1])]
-want = [l for l in want if l]
-host = ('M110', 'M115', 'M155', 'M105')
-got = [l.strip() for l in open(sys.argv[2]) if l.strip() and l.split()[0] not in host]
-if got != want:
-    i = next((i for i, (a, b) in enumerate(zip(got, want)) if a != b), min(len(got), len(want)))
-    print(f"{len(got)} executed, {len(want)} in the file; first difference at {i}: "
-          f"{got[i] if i < len(got) else None!r} vs {want[i] if i < len(want) else None!r}")
-    sys.exit(1)
-print(f"{len(got)} commands executed, exactly the file's")
-PY
 }
 
 # 1. The bunny, from submit to G-code, watched over the WebSocket; then printed on the simulator.
@@ -183,12 +145,7 @@ grep -qi "retry-after" <(curl -s -D - -o /dev/null -H "X-Api-Key: $key" -F "file
 stop
 
 # 4. kill -9 in the middle of a print: after a restart it is reported interrupted, resumable.
-cat > slowsim.toml <<TOML
-[[printers]]
-id = "sim"
-kind = "sim"
-sim_args = "--advanced-ok --time-scale 0.2 --heat-time-scale 0"
-TOML
+sim_config slowsim.toml "--advanced-ok --time-scale 0.2 --heat-time-scale 0"
 start slowsim.toml
 wait_printer operational
 curl -s -f -o /dev/null -H "X-Api-Key: $key" -d "{\"job\": \"$first\"}" "$base/api/v1/printers/sim/print" || fail "slow print"

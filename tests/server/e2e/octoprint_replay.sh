@@ -9,24 +9,12 @@
 #   octoprint_replay.sh SALIENTD SALIENT MODELS_DIR WORKDIR
 set -euo pipefail
 salientd=$1 salient=$2 models=$3 work=$4
+here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
-pid=
+. "$here/../../support/salientd.sh"
 trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null || true' EXIT
-fail() { echo "FAIL: $*"; tail -20 daemon.log; exit 1; }
-field() { python3 -c "import json,sys; d=json.load(sys.stdin); print(eval('d' + sys.argv[1]))" "$1"; }
-
-cat > sim.toml <<TOML
-[[printers]]
-id = "sim"
-kind = "sim"
-sim_args = "--advanced-ok --emergency-parser --autoreport --time-scale 0 --log $PWD/sim.log"
-TOML
-"$salientd" --data data --listen 127.0.0.1:0 --config sim.toml 2>daemon.log &
-pid=$!
-for _ in $(seq 600); do grep -q "listening on" daemon.log 2>/dev/null && break; sleep 0.05; done
-base=$(grep -o "http://127.0.0.1:[0-9]*" daemon.log | tail -1)
-[ -n "$base" ] || fail "salientd did not start"
-key=$(cat data/api-key)
+sim_config sim.toml "--advanced-ok --emergency-parser --autoreport --time-scale 0 --log $PWD/sim.log"
+start sim.toml
 "$salient" slice "$models/cube_binary.ply" --height 10 -o cube.gcode > /dev/null
 wait_idle() {  # until the printer is operational and its last print is FILE, finished
   for _ in $(seq 600); do
@@ -64,14 +52,7 @@ grep -qi "^location: http://127.0.0.1:[0-9]*/api/files/local/cube.gcode" headers
 [ "$(field "['done']" < upload.json)" = True ] && [ "$(field "['effectivePrint']" < upload.json)" = True ] || fail "upload body"
 wait_idle cube.gcode
 sleep 0.5  # the simulator writes its log when idle
-python3 - cube.gcode sim.log <<'PY' || fail "the simulator's log differs from the uploaded G-code"
-import sys
-want = [l.split(';')[0].strip() for l in open(sys.argv[1])]
-want = [l for l in want if l]
-got = [l.strip() for l in open(sys.argv[2]) if l.strip() and l.split()[0] not in ('M110', 'M115', 'M155', 'M105')]
-assert got == want, f"{len(got)} executed vs {len(want)} in the file"
-print(f"PrusaSlicer upload printed: {len(got)} commands, exactly the file's")
-PY
+same_commands cube.gcode sim.log
 
 # Cura: its sequence of calls, an upload that selects without printing, then starts the job.
 for path in /api/settings /api/version /api/printerprofiles /api/printer /api/job /api/server /api/files; do
@@ -102,5 +83,5 @@ tail -2 sim.log | tr '\n' ' ' | grep -q "M106 S128 M107" || fail "commands not e
 [ "$(curl -s -o /dev/null -w '%{http_code}' -F "file=@cube.gcode" "$base/api/files/local")" = 401 ] || fail "upload without key"
 [ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" -H "Content-Type: application/json" -d '{"command": "pause", "action": "pause"}' "$base/api/job")" = 409 ] \
   || fail "pause with nothing printing"
-kill -TERM "$pid"; wait "$pid" || true; pid=
+stop
 echo "ok: PrusaSlicer and Cura uploads replayed and printed"

@@ -1,0 +1,52 @@
+# Shell helpers for the tests that run salientd (sourced): start and stop it on a free loopback
+# port, write a config with a simulated printer, compare a simulator's log with a G-code file.
+# The caller sets $salientd and works in its own directory; logs go to daemon.log there.
+pid=
+fail() { echo "FAIL: $*"; tail -20 daemon.log; exit 1; }
+field() { python3 -c "import json,sys; d=json.load(sys.stdin); print(eval('d' + sys.argv[1]))" "$1"; }
+
+# start [CONFIG] [DATA]: salientd on a free port; sets $pid, $base, $port and $key.
+start() {
+  local before data=${2:-data}
+  before=$(grep -c "listening on" daemon.log 2>/dev/null || true)
+  "$salientd" --data "$data" --listen 127.0.0.1:0 ${1:+--config "$1"} 2>>daemon.log &
+  pid=$!
+  for _ in $(seq 600); do  # a sanitizer build starts slowly
+    [ "$(grep -c "listening on" daemon.log 2>/dev/null || true)" -gt "${before:-0}" ] && break
+    sleep 0.05
+  done
+  [ "$(grep -c "listening on" daemon.log)" -gt "${before:-0}" ] || fail "salientd did not start"
+  base=$(grep -o "http://127.0.0.1:[0-9]*" daemon.log | tail -1)
+  port=${base##*:}
+  key=$(cat "$data/api-key")
+}
+stop() { kill -TERM "$pid"; wait "$pid" || true; pid=; }
+
+# sim_config FILE SIM_ARGS: one simulated printer "sim" with these salient-sim arguments.
+sim_config() {
+  cat > "$1" <<TOML
+[[printers]]
+id = "sim"
+kind = "sim"
+sim_args = "$2"
+TOML
+}
+
+# same_commands GCODE LOG: the G-code's commands (comments and blank lines gone) against what the
+# simulator executed, without what the host adds on its own (M110 numbering, M115 handshake,
+# M155/M105 temperatures).
+same_commands() {
+  python3 - "$1" "$2" <<'PY' || fail "the simulator's log differs from $1"
+import sys
+want = [l.split(';')[0].strip() for l in open(sys.argv[1])]
+want = [l for l in want if l]
+host = ('M110', 'M115', 'M155', 'M105')
+got = [l.strip() for l in open(sys.argv[2]) if l.strip() and l.split()[0] not in host]
+if got != want:
+    i = next((i for i, (a, b) in enumerate(zip(got, want)) if a != b), min(len(got), len(want)))
+    print(f"{len(got)} executed, {len(want)} in the file; first difference at {i}: "
+          f"{got[i] if i < len(got) else None!r} vs {want[i] if i < len(want) else None!r}")
+    sys.exit(1)
+print(f"{sys.argv[1]}: {len(got)} commands executed, exactly the file's")
+PY
+}
