@@ -172,14 +172,21 @@ long long Printer::print(const PrintRequest& request) {
 }
 
 long long Printer::start_print(const PrintRequest& request) {
-  std::lock_guard lock(mutex_);
-  if (state_ != "operational" || print_wanted_)
-    conflict(config_.id, state_ == "operational" ? std::string("is starting a print") : not_ready(state_, error_));
-  std::string text = store_.files().read(request.file_digest);
+  const auto refuse_unless_ready = [this] {
+    if (state_ != "operational" || print_wanted_)
+      conflict(config_.id, state_ == "operational" ? std::string("is starting a print") : not_ready(state_, error_));
+  };
+  {
+    std::lock_guard lock(mutex_);
+    refuse_unless_ready();
+  }
+  // Reading and counting a large file happens outside the lock that status requests take.
   Current c;
   c.total = 0;
-  for (const std::string& line : split_lines(text))
+  for (const std::string& line : split_lines(store_.files().read(request.file_digest)))
     if (!protocol::marlin::strip_comment(line).empty()) ++c.total;
+  std::lock_guard lock(mutex_);
+  refuse_unless_ready();  // another request may have started one meanwhile
   c.record = PrintStore(store_.db()).create(config_.id, request.job_id, request.file_digest, request.filename, c.total,
                                             now_seconds());
   c.confirmed = static_cast<long long>(request.resume_from);
