@@ -1,6 +1,7 @@
 // The options several commands share, bound to the core's option structs.
 #pragma once
 
+#include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 
 namespace CLI {
@@ -9,9 +10,17 @@ class App;
 
 namespace salient::cli {
 
-// MODEL, --up, --height and --scale.
-void add_mesh_options(CLI::App& command, core::MeshOptions& options);
+// MODEL, --up, --height and --scale. `allow_auto`: --up auto (commands that slice).
+void add_mesh_options(CLI::App& command, core::MeshOptions& options, bool allow_auto = false);
 // The mesh options, the planning options and --json.
 void add_plan_options(CLI::App& command, core::PlanOptions& options, bool& json);
+
+// --up auto for commands that do not slice: chooses as `slice` would, scoring time on the
+// generic-i3 profile (plan options from `plan` when given), prints the candidates unless
+// `quiet`, and sets mesh.up to the chosen direction.
+void resolve_auto_up(core::MeshOptions& mesh, const core::PlanOptions* plan, bool quiet);
+
+// What --up auto chose: one line per candidate with its scores.
+void print_orientation(const core::OrientationReport& report);
 
 }  // namespace salient::cli

@@ -19,6 +19,7 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
   add_plan_options(*cmd, o->plan, o->json);
   cmd->callback([o, &action] {
     action = [o] {
+      resolve_auto_up(o->plan.mesh, &o->plan, o->json);
       const auto setup = core::prepare(o->plan);
       const core::PlanRequest base = setup->request({});
       const core::Comparison c = core::compare_planners(base, setup->rho, core::planner_names());

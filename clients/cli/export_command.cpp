@@ -49,11 +49,12 @@ std::vector<double> read_plan_boundaries(const std::string& path) {
 void add_export_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<ExportOptions>();
   CLI::App* cmd = app.add_subcommand("export-3mf", "Write the model and a plan as a 3MF for PrusaSlicer");
-  add_mesh_options(*cmd, o->mesh);
+  add_mesh_options(*cmd, o->mesh, true);
   cmd->add_option("PLAN", o->plan, "Plan JSON from `salient plan -o` (same --up/--height/--scale as then)")->required();
   cmd->add_option("-o,--output", o->output, "3MF file to write")->required();
   cmd->callback([o, &action] {
     action = [o] {
+      resolve_auto_up(o->mesh, nullptr, false);
       const std::vector<double> z = read_plan_boundaries(o->plan);
       const core::PlacedModel m = core::load_placed(o->mesh);
       const double height = m.placement.bounds.size().z;

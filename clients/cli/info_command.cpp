@@ -6,6 +6,7 @@
 
 #include "clients/cli/commands.hpp"
 #include "clients/cli/cli_options.hpp"
+#include "core/orient/orientation.hpp"
 
 namespace salient::cli {
 namespace {
@@ -29,7 +30,7 @@ nlohmann::json to_json(const core::PlacedModel& m) {
       {"vertices_read", l.vertices_read},
       {"has_colors", l.mesh.has_colors()},
       {"has_quality", l.mesh.has_quality()},
-      {"placement", {{"up", std::string(core::up_axis_name(m.up))}, {"scale", m.placement.scale}}},
+      {"placement", {{"up", (m.up_direction ? core::direction_text(*m.up_direction) : std::string(core::up_axis_name(m.up)))}, {"scale", m.placement.scale}}},
       {"size_mm", {size.x, size.y, size.z}},
       {"bounds_mm", {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}}},
       {"volume_mm3", core::signed_volume(l.mesh)},
@@ -59,7 +60,7 @@ void print_text(const std::string& name, const core::PlacedModel& m) {
               l.mesh.triangle_count(), r.components, r.components == 1 ? "" : "s",
               l.mesh.has_colors() ? ", vertex colours" : "", l.mesh.has_quality() ? ", vertex quality" : "");
   std::printf("  size        %.6g x %.6g x %.6g mm (up %s, scale %.6g)\n", size.x, size.y, size.z,
-              std::string(core::up_axis_name(m.up)).c_str(), m.placement.scale);
+              (m.up_direction ? core::direction_text(*m.up_direction) : std::string(core::up_axis_name(m.up))).c_str(), m.placement.scale);
   std::printf("  volume      %.6g mm3\n", core::signed_volume(l.mesh));
   std::printf("  area        %.6g mm2\n", core::surface_area(l.mesh));
   std::printf("  watertight  %s\n", r.watertight ? "yes" : "no");
@@ -74,10 +75,11 @@ void print_text(const std::string& name, const core::PlacedModel& m) {
 void add_info_command(CLI::App& app, CommandAction& action) {
   auto options = std::make_shared<InfoOptions>();
   CLI::App* cmd = app.add_subcommand("info", "Load a model, repair it and describe it");
-  add_mesh_options(*cmd, options->mesh);
+  add_mesh_options(*cmd, options->mesh, true);
   cmd->add_flag("--json", options->json, "Print JSON instead of text");
   cmd->callback([options, &action] {
     action = [options] {
+      resolve_auto_up(options->mesh, nullptr, options->json);
       const core::PlacedModel m = core::load_placed(options->mesh);
       const std::string name = std::filesystem::path(options->mesh.model).filename().string();
       if (options->json) {

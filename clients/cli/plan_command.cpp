@@ -72,6 +72,7 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
   cmd->add_option("--svg", o->svg, "Write a plot of the plan (thickness and saliency against height)");
   cmd->callback([o, &action] {
     action = [o] {
+      resolve_auto_up(o->plan.mesh, &o->plan, o->json);
       const auto planner = core::make_planner(o->plan.planner);
       if (!planner) throw core::InputError("--planner", {}, "unknown planner '" + o->plan.planner + "'");
       const auto setup = core::prepare(o->plan);

@@ -28,7 +28,7 @@ struct SaliencyOptions {
 void add_saliency_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<SaliencyOptions>();
   CLI::App* cmd = app.add_subcommand("saliency", "Compute per-vertex saliency and write it for viewing");
-  add_mesh_options(*cmd, o->mesh);
+  add_mesh_options(*cmd, o->mesh, true);
   cmd->add_option("--method", o->method, "spectral (the paper's), lee05, painted or uniform")
       ->check(CLI::IsMember({"spectral", "lee05", "painted", "uniform"}))
       ->capture_default_str();
@@ -37,6 +37,7 @@ void add_saliency_command(CLI::App& app, CommandAction& action) {
   cmd->add_flag("--json", o->json, "Print JSON instead of text");
   cmd->callback([o, &action] {
     action = [o] {
+      resolve_auto_up(o->mesh, nullptr, o->json);
       const core::PlacedModel m = core::load_placed(o->mesh);
       const std::string name = std::filesystem::path(o->mesh.model).filename().string();
       const auto t0 = std::chrono::steady_clock::now();

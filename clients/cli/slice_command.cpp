@@ -84,6 +84,7 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       const auto t0 = std::chrono::steady_clock::now();
       const core::SliceResult r = core::slice_model(settings, printer, core::RunContext{nullptr, progress_line()});
       write_atomically(o->output, r.gcode);
+      if (r.orientation) print_orientation(*r.orientation);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf("%s: %d layers (finest %d, %.1f%% fewer) for %s; print %.0f min, %.2f m filament; sliced in %.2f s -> %s\n",
                   r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),

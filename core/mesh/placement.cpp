@@ -3,7 +3,10 @@
 // the cyclic permutation (x, y, z) to (y, z, x).
 #include "core/mesh/placement.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <string>
 
 #include "core/common/input_error.hpp"
 
@@ -41,13 +44,48 @@ std::string_view up_axis_name(UpAxis axis) {
   return "z";
 }
 
+std::optional<Vec3> parse_up_direction(std::string_view text) {
+  double v[3];
+  std::size_t start = 0;
+  for (int i = 0; i < 3; ++i) {
+    const std::size_t comma = i < 2 ? text.find(',', start) : text.size();
+    if (comma == std::string_view::npos) return std::nullopt;
+    const std::string part(text.substr(start, comma - start));
+    char* end = nullptr;
+    v[i] = std::strtod(part.c_str(), &end);
+    if (part.empty() || end != part.c_str() + part.size() || !std::isfinite(v[i])) return std::nullopt;
+    start = comma + 1;
+  }
+  const Vec3 d{v[0], v[1], v[2]};
+  if (!(norm(d) > 1e-12)) return std::nullopt;
+  return d;
+}
+
+Vec3 turn_to_z(const Vec3& p, const Vec3& d) {
+  // Rodrigues about k = d × z; for d = -z, half a turn about x.
+  const Vec3 z{0, 0, 1};
+  const double c = std::clamp(dot(d, z), -1.0, 1.0);
+  const Vec3 axis = cross(d, z);
+  const double s = norm(axis);
+  if (s < 1e-12) return c > 0 ? p : Vec3{p.x, -p.y, -p.z};
+  const Vec3 k = axis / s;
+  return p * c + cross(k, p) * s + k * (dot(k, p) * (1 - c));
+}
+
 Placement place_mesh(Mesh& mesh, const PlacementOptions& options) {
   if (options.target_height && !(std::isfinite(*options.target_height) && *options.target_height > 0))
     bad_option("--height must be a positive number of millimetres");
   if (!(std::isfinite(options.scale) && options.scale > 0)) bad_option("--scale must be a positive number");
   if (options.target_height && options.scale != 1.0) bad_option("give either --height or --scale, not both");
 
-  for (Vec3& p : mesh.positions) p = rotate_up(p, options.up);
+  if (options.up_direction) {
+    const Vec3 d = *options.up_direction;
+    if (!(is_finite(d) && norm(d) > 1e-12)) bad_option("--up: the direction must be finite and not zero");
+    const Vec3 unit = d / norm(d);
+    for (Vec3& p : mesh.positions) p = turn_to_z(p, unit);
+  } else {
+    for (Vec3& p : mesh.positions) p = rotate_up(p, options.up);
+  }
   const BoundingBox turned = bounding_box(mesh);
   Placement result;
   result.scale = options.scale;

@@ -8,8 +8,14 @@ namespace salient::core {
 PlacedModel load_placed(const MeshOptions& options, const std::string& values_file) {
   PlacedModel out;
   const auto up = parse_up_axis(options.up);
-  if (!up) throw InputError("--up", {}, "expected x, y or z, got '" + options.up + "'");
-  out.up = *up;
+  if (!up) out.up_direction = parse_up_direction(options.up);
+  if (!up && !out.up_direction) {
+    std::string message = options.up == "auto" ? "'auto' is only for slice, plan and jobs (it slices three orientations)"
+                                               : "expected x, y, z, auto or a direction like 0,-1,0.2, got '";
+    if (options.up != "auto") message.append(options.up).append("'");
+    throw InputError("--up", {}, message);
+  }
+  if (up) out.up = *up;
   if (values_file.empty()) {
     out.loaded = load_mesh(options.model);
   } else {
@@ -18,7 +24,8 @@ PlacedModel load_placed(const MeshOptions& options, const std::string& values_fi
     out.loaded = repair_loaded(std::move(file), std::filesystem::path(options.model).filename().string());
   }
   PlacementOptions placement;
-  placement.up = *up;
+  if (up) placement.up = *up;
+  placement.up_direction = out.up_direction;
   placement.target_height = options.height;
   placement.scale = options.scale;
   placement.bed_center_x = options.bed_center_x;

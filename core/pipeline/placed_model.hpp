@@ -12,7 +12,7 @@ namespace salient::core {
 
 struct MeshOptions {
   std::string model;
-  std::string up = "z";
+  std::string up = "z";  // x, y, z, or a direction "DX,DY,DZ" ("auto" is chosen by slice_model)
   std::optional<double> height;
   double scale = 1.0;
   double bed_center_x = 0, bed_center_y = 0;  // set from the printer profile where there is one
@@ -22,6 +22,7 @@ struct PlacedModel {
   core::LoadedMesh loaded;
   core::Placement placement;
   core::UpAxis up = core::UpAxis::z;
+  std::optional<Vec3> up_direction;  // when placed by a direction rather than an axis
 };
 
 // Loads, repairs and places the model; throws core::InputError on bad input or options.

@@ -7,12 +7,19 @@
 #include "core/export/three_mf.hpp"
 #include "core/gcode/gcode_writer.hpp"
 #include "core/mesh/ply_writer.hpp"
+#include "core/pipeline/auto_orient.hpp"
 #include "core/render/saliency_preview.hpp"
 #include "core/slicing/plan_svg.hpp"
 
 namespace salient::core {
 
 SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
+  std::optional<OrientationReport> orientation;
+  if (s.plan.mesh.up == "auto") {
+    orientation = choose_orientation(s, printer, run);
+    s.plan.mesh.up = orientation->up;
+    if (orientation->scale) s.plan.mesh.height.reset(), s.plan.mesh.scale = *orientation->scale;
+  }
   PlanOptions& plan = s.plan;
   if (s.min_layer_from_printer) plan.min_layer = printer.min_layer;
   if (s.max_layer_from_printer) plan.max_layer = printer.max_layer;
@@ -31,6 +38,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   run.check();
 
   SliceResult out;
+  out.orientation = std::move(orientation);
   std::vector<double> boundaries;  // the bed, then each layer's top
   for (int b : planned.plan.boundaries) boundaries.push_back(setup->profile->z(b));
   out.z.assign(boundaries.begin() + (boundaries.empty() ? 0 : 1), boundaries.end());

@@ -4,10 +4,12 @@
 // own name), toolpaths, gcode.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/common/progress.hpp"
+#include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/toolpath/support_generator.hpp"
@@ -36,9 +38,11 @@ struct SliceResult {
   // With SliceSettings::artefacts: the plan's plot (SVG), the placed model with the plan as
   // PrusaSlicer's layer-height profile (3MF), and the saliency as vertex quality and colour (PLY).
   std::string plot_svg, model_3mf, saliency_ply;
+  std::optional<OrientationReport> orientation;  // with --up auto: the candidates and the choice
 };
 
 // Throws InputError naming the option or file at fault, Cancelled when run.cancel fires.
+// plan.mesh.up = "auto" first chooses the orientation (core/pipeline/auto_orient, phase "orient").
 SliceResult slice_model(SliceSettings settings, const PrinterProfile& printer, const RunContext& run);
 
 }  // namespace salient::core

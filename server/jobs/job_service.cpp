@@ -38,6 +38,21 @@ Span span_of(std::string_view reported) {
   return {"plan", 0.4, 0.6};  // "plan" and the planners' own names
 }
 
+// What "up": "auto" chose (null otherwise): the direction, and each candidate's scores.
+nlohmann::json orientation_json(const core::SliceResult& r) {
+  if (!r.orientation) return nullptr;
+  nlohmann::json candidates = nlohmann::json::array();
+  for (const core::OrientationScore& c : r.orientation->candidates)
+    candidates.push_back({{"up", core::direction_text(c.up)},
+                          {"minutes", c.minutes},
+                          {"layers", c.layers},
+                          {"time_score", c.time_score},
+                          {"volume_score", c.volume_score},
+                          {"stability_score", c.stability_score},
+                          {"score", c.score}});
+  return {{"up", r.orientation->up}, {"candidates", candidates}};
+}
+
 core::PrinterProfile printer_for(const std::string& id) {
   if (auto p = core::builtin_printer(id)) return *p;
   std::string known;
@@ -161,10 +176,13 @@ void JobService::run(Job job) {
   std::string last_phase;
   double last_progress = -1;
   auto last_write = std::chrono::steady_clock::now();
+  bool oriented = false;  // with "up": "auto", "orient" takes the first 30 % and the rest follows
   core::RunContext run{token.get(), [&](std::string_view reported, double fraction) {
-                         const Span s = span_of(reported);
+                         std::lock_guard lock(progress_mutex);  // reported from the solvers' threads too
+                         Span s = span_of(reported);
+                         if (reported == "orient") s = {"orient", 0.0, 0.3}, oriented = true;
+                         else if (oriented) s.from = 0.3 + 0.7 * s.from, s.to = 0.3 + 0.7 * s.to;
                          const double overall = s.from + (s.to - s.from) * std::clamp(fraction, 0.0, 1.0);
-                         std::lock_guard lock(progress_mutex);
                          const auto t = std::chrono::steady_clock::now();
                          if (last_phase == s.phase && (overall - last_progress < 0.02 || t - last_write < std::chrono::milliseconds(100)))
                            return;
@@ -196,6 +214,7 @@ void JobService::run(Job job) {
                             {"error", r.error},
                             {"rsmd", r.rsmd},
                             {"open_contours", r.open_contours},
+                            {"orientation", orientation_json(r)},
                             {"printer", printer.id},
                             {"gcode", gcode},
                             {"plan", plan_digest},

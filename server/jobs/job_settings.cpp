@@ -1,5 +1,7 @@
 #include "server/jobs/job_settings.hpp"
 
+#include "core/mesh/placement.hpp"
+
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -86,7 +88,8 @@ JobSettings parse_job_settings(const std::string& text_in, std::size_t max_depth
   if (j.contains("support_angle")) c.support_settings.angle = number(j, "support_angle", 0, 89);
   if (p.metric != "area" && p.metric != "paper") bad("'metric' must be area or paper");
   if (p.saliency != "spectral" && p.saliency != "lee05" && p.saliency != "uniform") bad("'saliency' must be spectral, lee05 or uniform");
-  if (p.mesh.up != "x" && p.mesh.up != "y" && p.mesh.up != "z") bad("'up' must be x, y or z");
+  if (!core::parse_up_axis(p.mesh.up) && !core::parse_up_direction(p.mesh.up) && p.mesh.up != "auto")
+    bad("'up' must be x, y, z, auto or a direction like \"0,-1,0.2\"");
   if (!core::make_planner(p.planner)) bad("unknown planner '" + p.planner + "'");
   // Canonical form: every setting, defaults included, keys sorted (nlohmann's object is ordered).
   json canon = {{"printer", s.printer},   {"planner", p.planner},          {"metric", p.metric},

@@ -9,6 +9,7 @@
 
 #include "server/http/router.hpp"
 #include "server/jobs/job_service.hpp"
+#include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"
 #include "tests/support/scratch_dir.hpp"
 
@@ -102,6 +103,10 @@ TEST_CASE("submit refuses bad settings (400), unknown formats (415), unreadable 
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"colour": "red"})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"rho": 3})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"printer": "nope"})"); }) == 400);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"up": "sideways"})"); }) == 400);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"up": "0,0,0"})"); }) == 400);
+  CHECK(parse_job_settings(R"({"up": "auto"})").slice.plan.mesh.up == "auto");  // chosen when it runs
+  CHECK(parse_job_settings(R"({"up": "0,-1,0.2"})").slice.plan.mesh.up == "0,-1,0.2");
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"rho": 0.1, "layers": 5})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"([[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]])"); }) == 400);
   CHECK(status_of([&] { service.submit("notes.txt", "hello, this is not a mesh", ""); }) == 415);

@@ -1,0 +1,161 @@
+#include "core/orient/orientation.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "core/geometry/mesh_section.hpp"
+#include "core/mesh/placement.hpp"
+
+namespace salient::core {
+namespace {
+
+struct Facet {
+  Vec3 n;  // unit normal
+  double area;
+};
+
+std::vector<Facet> facets(const Mesh& mesh) {
+  std::vector<Facet> out;
+  out.reserve(mesh.triangle_count());
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3 c = cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]);
+    const double twice = norm(c);
+    if (twice > 0 && std::isfinite(twice)) out.push_back({c / twice, twice / 2});
+  }
+  return out;
+}
+
+// The principal direction (largest eigenvalue) of Σ a·n·nᵀ over the facets selected.
+template <typename Select>
+std::array<Vec3, 3> principal_axes(const std::vector<Facet>& fs, Select&& selected) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Zero();
+  for (std::size_t i = 0; i < fs.size(); ++i) {
+    if (!selected(i)) continue;
+    const Eigen::Vector3d n(fs[i].n.x, fs[i].n.y, fs[i].n.z);
+    m += fs[i].area * n * n.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(m);
+  std::array<Vec3, 3> out;
+  for (int k = 0; k < 3; ++k) {  // largest eigenvalue first
+    const Eigen::Vector3d v = solver.eigenvectors().col(2 - k);
+    out[static_cast<std::size_t>(k)] = {v.x(), v.y(), v.z()};
+  }
+  return out;
+}
+
+Vec3 unit(const Vec3& v) { return v / norm(v); }
+
+}  // namespace
+
+std::array<Vec3, 3> candidate_directions(const Mesh& mesh) {
+  const std::vector<Facet> fs = facets(mesh);
+  if (fs.empty()) return {Vec3{1, 0, 0}, Vec3{0, 1, 0}, Vec3{0, 0, 1}};
+  // Seeds, farthest first (weighted by area): the largest facet, then the facet farthest from
+  // it, then the one farthest from both. Principal axes of the whole would be arbitrary for a
+  // cube, whose Σ a·n·nᵀ is a multiple of the identity.
+  const auto distance = [](const Vec3& n, const Vec3& c) { return 1 - dot(n, c) * dot(n, c); };
+  std::array<Vec3, 3> centres{};
+  std::size_t seed = 0;
+  for (std::size_t i = 1; i < fs.size(); ++i)
+    if (fs[i].area > fs[seed].area) seed = i;
+  centres[0] = fs[seed].n;
+  for (std::size_t k = 1; k < 3; ++k) {
+    double best = -1;
+    for (const Facet& f : fs) {
+      double d = 2;
+      for (std::size_t j = 0; j < k; ++j) d = std::min(d, distance(f.n, centres[j]));
+      if (f.area * d > best) best = f.area * d, centres[k] = f.n;
+    }
+    if (!(best > 0)) centres[k] = principal_axes(fs, [](std::size_t) { return true; })[k];
+  }
+  std::vector<int> cluster(fs.size(), -1);
+  std::array<double, 3> weight{};
+  for (int iteration = 0; iteration < 30; ++iteration) {
+    bool moved = false;
+    weight = {};
+    for (std::size_t i = 0; i < fs.size(); ++i) {
+      int best = 0;
+      double best_d = 2;
+      for (int k = 0; k < 3; ++k) {
+        const double d = distance(fs[i].n, centres[static_cast<std::size_t>(k)]);  // n and −n alike
+        if (d < best_d) best_d = d, best = k;
+      }
+      moved = moved || cluster[i] != best;
+      cluster[i] = best;
+      weight[static_cast<std::size_t>(best)] += fs[i].area;
+    }
+    if (!moved) break;
+    for (int k = 0; k < 3; ++k)
+      if (weight[static_cast<std::size_t>(k)] > 0)
+        centres[static_cast<std::size_t>(k)] = principal_axes(fs, [&](std::size_t i) { return cluster[i] == k; })[0];
+  }
+  // Heaviest first, then made orthonormal by Gram–Schmidt in that order.
+  std::array<int, 3> order{0, 1, 2};
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return weight[static_cast<std::size_t>(a)] > weight[static_cast<std::size_t>(b)]; });
+  const Vec3 a = unit(centres[static_cast<std::size_t>(order[0])]);
+  Vec3 b = centres[static_cast<std::size_t>(order[1])] - a * dot(centres[static_cast<std::size_t>(order[1])], a);
+  if (norm(b) < 1e-9) {  // degenerate (all normals in one cluster): any perpendicular
+    b = std::abs(a.x) < 0.9 ? cross(a, Vec3{1, 0, 0}) : cross(a, Vec3{0, 1, 0});
+  }
+  b = unit(b);
+  return {a, b, unit(cross(a, b))};
+}
+
+double bed_contact_area(const Mesh& mesh, const Vec3& up, double tolerance) {
+  const Vec3 u = unit(up);
+  double lowest = INFINITY;
+  for (const Vec3& p : mesh.positions) lowest = std::min(lowest, dot(p, u));
+  double area = 0;
+  for (const Triangle& t : mesh.triangles) {
+    const Vec3 &p0 = mesh.positions[t[0]], &p1 = mesh.positions[t[1]], &p2 = mesh.positions[t[2]];
+    if (dot(p0, u) - lowest > tolerance || dot(p1, u) - lowest > tolerance || dot(p2, u) - lowest > tolerance) continue;
+    const Vec3 c = cross(p1 - p0, p2 - p0);
+    const double twice = norm(c);
+    if (twice > 0 && dot(c, u) / twice < -0.985) area += twice / 2;  // facing down within 10°
+  }
+  return area;
+}
+
+Vec3 pick_up_sign(const Mesh& mesh, const Vec3& d) {
+  return bed_contact_area(mesh, d * -1.0) > bed_contact_area(mesh, d) ? d * -1.0 : d;
+}
+
+double volumetric_score(const Mesh& placed, std::span<const double> boundaries) {
+  const double volume = signed_volume(placed);
+  if (!(volume > 0) || boundaries.size() < 2) return 0;
+  std::vector<double> mid(boundaries.size() - 1);
+  for (std::size_t i = 0; i + 1 < boundaries.size(); ++i) mid[i] = 0.5 * (boundaries[i] + boundaries[i + 1]);
+  const std::vector<Section> sections = section_mesh(placed, mid);
+  double printed = 0;
+  for (std::size_t i = 0; i < sections.size(); ++i) {
+    double area = 0;
+    for (const Polygon& ring : sections[i].loops) area += signed_area(ring);
+    printed += (boundaries[i + 1] - boundaries[i]) * area;
+  }
+  return 1 - std::abs(printed - volume) / volume;
+}
+
+std::size_t score_orientations(std::vector<OrientationScore>& cs, double surface_area) {
+  if (cs.empty()) return 0;
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& c : cs) lo = std::min(lo, c.minutes), hi = std::max(hi, c.minutes);
+  std::size_t best = 0;
+  for (std::size_t i = 0; i < cs.size(); ++i) {
+    OrientationScore& c = cs[i];
+    c.time_score = hi > lo ? (hi - c.minutes) / (hi - lo) : 1.0;
+    c.stability_score = surface_area > 0 ? c.contact_area / surface_area : 0;
+    c.score = 0.3 * c.time_score + 0.3 * c.volume_score + 0.3 * c.stability_score;
+    if (c.score > cs[best].score) best = i;
+  }
+  return best;
+}
+
+std::string direction_text(const Vec3& d) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.6f,%.6f,%.6f", d.x, d.y, d.z);
+  return buf;
+}
+
+}  // namespace salient::core

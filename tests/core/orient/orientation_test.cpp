@@ -1,0 +1,149 @@
+// Automatic orientation: candidate directions, bed contact, eq. 11–13, the rotation to +Z, and
+// the whole choice on a bar that should be laid down.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "core/mesh/placement.hpp"
+#include "core/orient/orientation.hpp"
+#include "core/pipeline/auto_orient.hpp"
+#include "core/printer/printer_profile.hpp"
+#include "tests/core/mesh/mesh_test_util.hpp"
+#include "tests/support/scratch_dir.hpp"
+
+using namespace salient::core;
+
+namespace {
+
+Vec3 unit(const Vec3& v) { return v / norm(v); }
+
+// Rotation about `axis` by `angle` (Rodrigues), for turning test meshes arbitrarily.
+Vec3 rotate(const Vec3& p, const Vec3& axis, double angle) {
+  const Vec3 k = unit(axis);
+  return p * std::cos(angle) + cross(k, p) * std::sin(angle) + k * (dot(k, p) * (1 - std::cos(angle)));
+}
+
+std::string off_text(const Mesh& m) {
+  std::string s = "OFF\n" + std::to_string(m.vertex_count()) + " " + std::to_string(m.triangle_count()) + " 0\n";
+  for (const Vec3& p : m.positions) s += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+  for (const Triangle& t : m.triangles) s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("a turned box: the three candidates are its face normals") {
+  Mesh m = salient::test::box(10, 20, 30);
+  const Vec3 axis{0.3, -0.5, 0.8};
+  const double angle = 0.7;
+  for (Vec3& p : m.positions) p = rotate(p, axis, angle);
+  const auto candidates = candidate_directions(m);
+  const std::array<Vec3, 3> faces = {rotate({1, 0, 0}, axis, angle), rotate({0, 1, 0}, axis, angle), rotate({0, 0, 1}, axis, angle)};
+  for (const Vec3& f : faces) {
+    double best = 0;
+    for (const Vec3& c : candidates) best = std::max(best, std::abs(dot(c, f)));
+    CHECK(best > 0.999);
+  }
+  // Orthonormal.
+  CHECK(std::abs(dot(candidates[0], candidates[1])) < 1e-9);
+  CHECK(std::abs(dot(candidates[1], candidates[2])) < 1e-9);
+  CHECK(std::abs(norm(candidates[2]) - 1) < 1e-9);
+  // The heaviest cluster first: the faces normal to x (20 × 30 mm, twice) outweigh the others.
+  CHECK(std::abs(dot(candidates[0], faces[0])) > 0.999);
+}
+
+TEST_CASE("bed contact: the face that lies on the bed, and the sign that puts the most area down") {
+  Mesh m = salient::test::box(10, 20, 60);
+  CHECK(bed_contact_area(m, {0, 0, 1}) == doctest::Approx(200));
+  CHECK(bed_contact_area(m, {1, 0, 0}) == doctest::Approx(1200));
+  CHECK(bed_contact_area(m, {0, 0, -1}) == doctest::Approx(200));
+  // A wedge: a square base at the bottom, a ridge on top (touching the bed only along a line when upside down).
+  Mesh wedge;
+  wedge.positions = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}, {0, 5, 8}, {10, 5, 8}};
+  wedge.triangles = {{0, 2, 1}, {0, 3, 2}, {0, 1, 5}, {0, 5, 4}, {3, 4, 5}, {3, 5, 2}, {0, 4, 3}, {1, 2, 5}};
+  CHECK(bed_contact_area(wedge, {0, 0, 1}) == doctest::Approx(100));
+  CHECK(bed_contact_area(wedge, {0, 0, -1}) == doctest::Approx(0));
+  CHECK(pick_up_sign(wedge, {0, 0, -1}).z == doctest::Approx(1));
+  CHECK(pick_up_sign(wedge, {0, 0, 1}).z == doctest::Approx(1));
+}
+
+TEST_CASE("VolS (eq. 13): a box sliced in whole layers has its volume exactly, a sphere nearly") {
+  const Mesh box = salient::test::box(10, 20, 6);
+  std::vector<double> z;
+  for (int i = 0; i <= 30; ++i) z.push_back(0.2 * i);
+  CHECK(volumetric_score(box, z) == doctest::Approx(1.0).epsilon(1e-9));
+  Mesh sphere = salient::test::uv_sphere(48, 96);
+  for (Vec3& p : sphere.positions) p = p * 10 + Vec3{0, 0, 10};
+  std::vector<double> coarse, fine;
+  for (int i = 0; i <= 5; ++i) coarse.push_back(4.0 * i);
+  for (int i = 0; i <= 100; ++i) fine.push_back(0.2 * i);
+  const double c = volumetric_score(sphere, coarse), f = volumetric_score(sphere, fine);
+  CHECK(f > 0.99);
+  CHECK(c < f);  // thicker layers, larger error
+  CHECK(volumetric_score(sphere, std::vector<double>{0}) == 0);
+}
+
+TEST_CASE("OS (eqs. 11-12) by hand") {
+  std::vector<OrientationScore> cs(3);
+  cs[0].minutes = 10, cs[1].minutes = 20, cs[2].minutes = 15;
+  for (auto& c : cs) c.volume_score = 1;
+  cs[0].contact_area = 0, cs[1].contact_area = 50, cs[2].contact_area = 100;
+  const std::size_t best = score_orientations(cs, 1000);
+  CHECK(cs[0].time_score == doctest::Approx(1));
+  CHECK(cs[1].time_score == doctest::Approx(0));
+  CHECK(cs[2].time_score == doctest::Approx(0.5));
+  CHECK(cs[2].stability_score == doctest::Approx(0.1));
+  CHECK(cs[0].score == doctest::Approx(0.6));
+  CHECK(cs[1].score == doctest::Approx(0.315));
+  CHECK(cs[2].score == doctest::Approx(0.48));
+  CHECK(best == 0);
+  std::vector<OrientationScore> same(2);  // equal times: both get TimeS 1, no division by zero
+  same[0].minutes = same[1].minutes = 7;
+  score_orientations(same, 0);
+  CHECK(same[0].time_score == 1);
+  CHECK(same[1].stability_score == 0);
+}
+
+TEST_CASE("turning a direction to +Z is a proper rotation") {
+  for (const Vec3& d : {Vec3{0, 0, 1}, Vec3{0, 0, -1}, Vec3{1, 0, 0}, Vec3{0.2, -0.9, 0.3}, Vec3{-1e-9, 0, -1}}) {
+    const Vec3 u = unit(d);
+    const Vec3 z = turn_to_z(u, u);
+    CHECK(z.x == doctest::Approx(0).epsilon(1e-9));
+    CHECK(z.y == doctest::Approx(0).epsilon(1e-9));
+    CHECK(z.z == doctest::Approx(1));
+    const Vec3 a = turn_to_z({1, 0, 0}, u), b = turn_to_z({0, 1, 0}, u), c = turn_to_z({0, 0, 1}, u);
+    CHECK(dot(a, cross(b, c)) == doctest::Approx(1));  // determinant +1: no mirror, volumes keep their sign
+  }
+  CHECK(parse_up_direction("0,-1,0.2"));
+  for (const char* bad : {"1,2", "a,b,c", "0,0,0", "1,2,3,4", "1,,2", "nan,0,1", ""})
+    CHECK_MESSAGE(!parse_up_direction(bad), bad);
+  CHECK(parse_up_direction(direction_text({0.25, -0.5, 1}))->y == doctest::Approx(-0.5));
+}
+
+TEST_CASE("--up auto lays a long bar down: shorter, faster and steadier") {
+  salient::test::ScratchDir dir("orient-bar");
+  std::filesystem::create_directories(dir.path);
+  const std::string file = (dir.path / "bar.off").string();
+  std::ofstream(file) << off_text(salient::test::box(60, 8, 12));  // long along x in the file
+  SliceSettings settings;
+  settings.plan.mesh.model = file;
+  settings.plan.mesh.up = "auto";
+  const OrientationReport r = choose_orientation(settings, *builtin_printer("generic-i3"), {});
+  REQUIRE(r.candidates.size() == 3);
+  const OrientationScore& best = r.candidates[r.best];
+  CHECK(std::abs(best.up.x) < 1e-6);  // not standing on its end
+  for (const auto& c : r.candidates) {
+    CHECK(c.minutes > 0);
+    CHECK(c.layers > 0);
+    CHECK(c.volume_score > 0.99);
+    if (std::abs(c.up.x) > 0.999) CHECK(c.minutes > best.minutes);
+  }
+  CHECK(best.stability_score > 0.25);  // lying on a 60 × 12 (720 mm²) or 60 × 8 face, of 2,592 mm² in all
+  // Slicing with auto uses the choice, and says so.
+  settings.toolpaths.infill_density = 0.1;
+  const SliceResult sliced = slice_model(settings, *builtin_printer("generic-i3"), {});
+  REQUIRE(sliced.orientation);
+  CHECK(sliced.orientation->up == r.up);
+  CHECK(sliced.z.back() < 13);  // printed lying down
+}
