@@ -3,6 +3,7 @@
 // those times, and the header gets the totals.
 #include "core/gcode/gcode_writer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -49,11 +50,13 @@ class LayerWriter {
     if (static_cast<int>(index) == s_.fan_from_layer) out_ << fan_on(p_.flavor) << "\n";
     retract();
     out_ << "G1 Z" << fmt("%.3f", layer.z_top) << " F" << fmt("%.0f", p_.travel_speed * 60) << "\n";
-    // Minimum layer time: slow every extrusion of a quick layer down in proportion.
+    // Minimum layer time: slow every extrusion of a quick layer down in proportion, to a floor (a
+    // speck of a layer would otherwise be printed at ~0 mm/s, forever).
     double speed = index == 0 ? p_.first_layer_speed : p_.print_speed;
     double seconds = 0;
     for (const ExtrusionPath& path : layer.paths) seconds += path.length() / speed;
-    if (seconds > 0 && seconds < s_.min_layer_time) speed *= seconds / s_.min_layer_time;
+    if (seconds > 0 && seconds < s_.min_layer_time)
+      speed = std::max(speed * seconds / s_.min_layer_time, std::min(speed, s_.min_print_speed));
     const double e_per_mm_area = 1.0 / (M_PI * p_.filament_diameter * p_.filament_diameter / 4);
     for (const ExtrusionPath& path : layer.paths) {
       if (path.points.empty()) continue;

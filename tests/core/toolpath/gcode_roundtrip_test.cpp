@@ -290,3 +290,26 @@ TEST_CASE("flavours: Marlin states its limits, Sailfish takes absolute E and Mak
   CHECK(marlin.find("M190 S60") != std::string::npos);  // template filled from the profile
   CHECK(marlin.find("{bed_temperature}") == std::string::npos);
 }
+
+TEST_CASE("a speck of a layer is slowed for cooling, but never below the minimum print speed") {
+  const PrinterProfile printer = *builtin_printer("generic-i3");
+  std::vector<LayerToolpaths> layers(2);
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    layers[i].z_bottom = 0.2 * static_cast<double>(i), layers[i].z_top = 0.2 * static_cast<double>(i + 1);
+    ExtrusionPath speck;  // 0.05 mm of extrusion: 0.001 s at full speed
+    speck.points = {{100, 100}, {100.05, 100}};
+    layers[i].paths.push_back(speck);
+  }
+  const GcodeResult g = write_gcode(layers, printer, {});
+  CHECK(std::isfinite(g.seconds));
+  std::istringstream in(g.text);
+  int extrusions = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("G1 X", 0) != 0 || line.find(" E") == std::string::npos) continue;
+    const std::size_t f = line.find(" F");
+    REQUIRE(f != std::string::npos);
+    CHECK(std::stod(line.substr(f + 2)) >= 10.0 * 60 - 1e-9);  // mm/min
+    ++extrusions;
+  }
+  CHECK(extrusions == 2);
+}
