@@ -25,6 +25,7 @@ struct PlanOptions {
   std::string saliency = "uniform";
   std::string saliency_file;
   std::uint64_t seed = 1;
+  bool segment = false;  // SegOpt (paper §5): cut by a vertical plane where that saves time
 };
 
 // Everything a planner needs, built once. Members refer to each other: not copyable.

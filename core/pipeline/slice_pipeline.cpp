@@ -8,8 +8,10 @@
 #include "core/gcode/gcode_writer.hpp"
 #include "core/mesh/ply_writer.hpp"
 #include "core/pipeline/auto_orient.hpp"
+#include "core/pipeline/segmented_slicing.hpp"
 #include "core/render/saliency_preview.hpp"
 #include "core/slicing/plan_svg.hpp"
+#include "core/segment/regions_svg.hpp"
 
 namespace salient::core {
 
@@ -29,38 +31,50 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   const auto planner = make_planner(plan.planner);
   if (!planner) throw InputError("--planner", {}, "unknown planner '" + plan.planner + "'");
 
+  if (plan.segment && (plan.layers || plan.layer_height))
+    throw InputError("--segment", {}, "works to a quality target (--rho), not to a layer count");
   const auto setup = prepare(plan, run);
   run.check();
-  run.report("plan", 0);
-  PlanRequest request = setup->request(target_of(plan, *setup));
-  request.run = run;
-  const PlanResult planned = planner->plan(request);
-  run.check();
-
+  if (s.combine_infill) s.toolpaths.combine_infill_up_to = printer.max_layer;
+  const RegionSliceSettings region_settings{s.toolpaths, s.support, s.support_settings};
+  const ZProfile& p = *setup->profile;
+  std::vector<PlanRegion> regions;
   SliceResult out;
   out.orientation = std::move(orientation);
-  std::vector<double> boundaries;  // the bed, then each layer's top
-  for (int b : planned.plan.boundaries) boundaries.push_back(setup->profile->z(b));
-  out.z.assign(boundaries.begin() + (boundaries.empty() ? 0 : 1), boundaries.end());
-  if (s.combine_infill) s.toolpaths.combine_infill_up_to = printer.max_layer;
-  auto toolpaths = generate_toolpaths(setup->model.loaded.mesh, boundaries, s.toolpaths, run);
-  if (s.support) {
-    s.support_settings.line_width = s.toolpaths.line_width;
-    add_support(toolpaths, s.support_settings, run);
+  if (plan.segment) {
+    out.segmentation = segment_model(*setup, *planner, region_settings, printer, run);
+    regions = out.segmentation->regions;
+    double e_coarse = 0;
+    for (const PlanRegion& r : regions) e_coarse += setup->rho > 0 ? r.epsilon / setup->rho : 0;
+    out.error = regions_error(regions);
+    out.rsmd = e_coarse > 0 ? out.error / e_coarse : 0;
+  } else {
+    run.report("plan", 0);
+    PlanRequest request = setup->request(target_of(plan, *setup));
+    request.run = run;
+    PlanRegion whole;
+    whole.last_cell = p.cells();
+    whole.plan = planner->plan(request).plan;
+    out.error = setup->objective->error(whole.plan);
+    out.rsmd = setup->objective->rsmd(whole.plan);
+    regions = {std::move(whole)};
   }
   run.check();
+  out.z = printed_heights(p, regions);
+  std::vector<double> boundaries{0};  // the bed, then each printed layer's top
+  boundaries.insert(boundaries.end(), out.z.begin(), out.z.end());
+  auto toolpaths = region_toolpaths(setup->model.loaded.mesh, p, regions, region_settings, run);
+  run.check();
   run.report("gcode", 0);
-  const ZProfile& p = *setup->profile;
   out.model_name = std::filesystem::path(plan.mesh.model).filename().string();
-  out.layers = planned.plan.layer_count();
+  out.layers = static_cast<int>(out.z.size());
   out.finest_layers = p.most_layers();
-  out.error = setup->objective->error(planned.plan);
-  out.rsmd = setup->objective->rsmd(planned.plan);
   GcodeSettings gs;
   gs.summary = {"model = " + out.model_name,
                 "planner = " + plan.planner + ", metric " + plan.metric + ", saliency " + plan.saliency,
                 "plan = " + std::to_string(out.layers) + " layers (finest " + std::to_string(out.finest_layers) + "), E " +
                     std::to_string(out.error) + ", RSMD " + std::to_string(out.rsmd)};
+  if (out.segmentation) gs.summary.push_back("segmentation = " + out.segmentation->note);
   GcodeResult g = write_gcode(toolpaths, printer, gs);
   out.gcode = std::move(g.text);
   out.print_seconds = g.seconds;
@@ -68,7 +82,8 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   for (const auto& l : toolpaths) out.open_contours += l.open_chains;
   if (s.artefacts) {
     const Mesh& mesh = setup->model.loaded.mesh;
-    out.plot_svg = plan_svg(*setup->objective, planned.plan, out.model_name + " — " + plan.planner + ", " + plan.metric);
+    const std::string title = out.model_name + " — " + plan.planner + ", " + plan.metric;
+    out.plot_svg = regions.size() == 1 ? plan_svg(*setup->objective, regions[0].plan, title) : regions_svg(p, regions, title);
     out.model_3mf = three_mf(mesh, boundaries, out.model_name);
     std::vector<Color> colors(setup->saliency.size());
     std::transform(setup->saliency.begin(), setup->saliency.end(), colors.begin(), heat_color);

@@ -12,6 +12,7 @@
 #include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 #include "core/printer/printer_profile.hpp"
+#include "core/segment/seg_opt.hpp"
 #include "core/toolpath/support_generator.hpp"
 #include "core/toolpath/toolpath_generator.hpp"
 
@@ -39,6 +40,7 @@ struct SliceResult {
   // PrusaSlicer's layer-height profile (3MF), and the saliency as vertex quality and colour (PLY).
   std::string plot_svg, model_3mf, saliency_ply;
   std::optional<OrientationReport> orientation;  // with --up auto: the candidates and the choice
+  std::optional<SegOptResult> segmentation;      // with plan.segment: the regions and the decision
 };
 
 // Throws InputError naming the option or file at fault, Cancelled when run.cancel fires.

@@ -39,6 +39,7 @@ void ExactSolver::compute_row() {
   const int j_lo = static_cast<int>(std::min<long long>(lo, m + 1));
   const int j_hi = static_cast<int>(std::min<long long>(static_cast<long long>(n) * wmax, m));
   for (int j = j_lo; j <= j_hi; ++j) {
+    if (!allowed_.empty() && j < m && !allowed_[j]) continue;
     double best = inf;
     int best_w = 0;
     float s_max = 0, c_max = 0;
@@ -67,6 +68,13 @@ void ExactSolver::compute_row() {
   back_.push_back(std::move(back));
   final_.push_back(cur_[m]);
   rows_ = n;
+}
+
+void ExactSolver::restrict_boundaries(std::vector<char> allowed) {
+  if (rows_ > 0) throw std::logic_error("ExactSolver::restrict_boundaries after the first query");
+  if (allowed.size() != static_cast<std::size_t>(objective_.profile().cells()) + 1)
+    throw std::invalid_argument("ExactSolver::restrict_boundaries: one flag per boundary cell");
+  allowed_ = std::move(allowed);
 }
 
 void ExactSolver::compute_rows_up_to(int n) {

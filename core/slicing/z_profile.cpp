@@ -73,7 +73,7 @@ std::string mm(double v) {
 }  // namespace
 
 ZProfile ZProfile::build(const Mesh& mesh, std::span<const float> saliency, const SlicingParams& params,
-                         const RunContext& run) {
+                         const RunContext& run, double height) {
   validate(params);
   if (saliency.size() != mesh.vertex_count())
     throw std::invalid_argument("ZProfile::build: one saliency value per vertex is required");
@@ -82,7 +82,7 @@ ZProfile ZProfile::build(const Mesh& mesh, std::span<const float> saliency, cons
   p.min_cells_ = params.min_cells();
   p.max_cells_ = params.max_cells();
   const BoundingBox box = bounding_box(mesh);
-  p.height_ = box.max.z;
+  p.height_ = height > 0 ? height : box.max.z;
   const double delta = params.grid;
   if (!(p.height_ >= params.min_layer))
     throw InputError("model", {}, "is " + mm(p.height_) + " mm tall, lower than --min-layer " + mm(params.min_layer) + " mm");
@@ -145,6 +145,37 @@ ZProfile ZProfile::build(const Mesh& mesh, std::span<const float> saliency, cons
   p.C_max_ = RangeMax(acc.C);
   p.C_ = std::move(acc.C);
   run.report("profile", 1.0);
+  return p;
+}
+
+}  // namespace salient::core
+
+namespace salient::core {
+namespace {
+
+ProfileChannel channel_window(const ProfileChannel& c, int first, int last) {
+  std::vector<double> A(last - first);
+  for (int k = first; k < last; ++k) A[k - first] = c.A_prefix[k + 1] - c.A_prefix[k];
+  return make_channel(std::vector<float>(c.S.begin() + first, c.S.begin() + last), A);
+}
+
+}  // namespace
+
+ZProfile ZProfile::window(int first, int last) const {
+  if (first < 0 || last > cells_ || first >= last) throw std::invalid_argument("ZProfile::window: bad cell range");
+  ZProfile p;
+  p.params_ = params_;
+  p.min_cells_ = min_cells_;
+  p.max_cells_ = max_cells_;
+  p.cells_ = last - first;
+  p.height_ = z(last) - z(first);
+  if (p.fewest_layers() > p.most_layers())
+    throw InputError("model", {}, "the slab from " + mm(z(first)) + " to " + mm(z(last)) + " mm cannot be cut into layers of " +
+                                      mm(params_.min_layer) + " to " + mm(params_.max_layer) + " mm");
+  p.salient_ = channel_window(salient_, first, last);
+  p.geometric_ = channel_window(geometric_, first, last);
+  p.C_.assign(C_.begin() + first, C_.begin() + last);
+  p.C_max_ = RangeMax(p.C_);
   return p;
 }
 

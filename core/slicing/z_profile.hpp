@@ -25,8 +25,14 @@ class ZProfile {
  public:
   // `mesh` must be placed (lowest point at z = 0); `saliency` has one value per vertex.
   // Throws InputError when the model is lower than α or cannot be cut into layers of α..ᾱ.
+  // `height` > 0 sets the profile's height instead of the mesh's top (a part of a segmented
+  // model is profiled on the whole model's grid, so the parts' layers can meet).
   static ZProfile build(const Mesh& mesh, std::span<const float> saliency, const SlicingParams& params,
-                        const RunContext& run = {});
+                        const RunContext& run = {}, double height = 0);
+
+  // The cells [first, last) as a profile of their own, from z = 0 (a horizontal slab of a
+  // segmented model). Throws InputError if the slab cannot be cut into layers of α..ᾱ.
+  ZProfile window(int first, int last) const;
 
   int cells() const { return cells_; }                 // M
   double height() const { return height_; }            // H, mm

@@ -119,8 +119,12 @@ void add_sparse_infill(std::vector<LayerToolpaths>& layers, const ToolpathSettin
 
 }  // namespace
 
-std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vector<double>& z,
-                                               const ToolpathSettings& s, const RunContext& run) {
+namespace {
+
+// Layers [first, last) of `z`'s layers are built; the others are context only (a region's slab
+// inside the model: what lies above and below it decides where its skins go).
+std::vector<LayerToolpaths> build_layers(const Mesh& mesh, const std::vector<double>& z, std::size_t first, std::size_t last,
+                                         const ToolpathSettings& s, const RunContext& run) {
   const std::size_t n = z.size() < 2 ? 0 : z.size() - 1;
   std::vector<double> mid(n);
   for (std::size_t i = 0; i < n; ++i) mid[i] = 0.5 * (z[i] + z[i + 1]);
@@ -139,23 +143,51 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
   // Layers only read each other's regions: in parallel, in blocks so progress and cancellation
   // stay on the calling thread.
   constexpr std::size_t block = 64;
-  for (std::size_t first = 0; first < n; first += block) {
+  for (std::size_t from = first; from < last; from += block) {
     run.check();
-    run.report("toolpaths", static_cast<double>(first) / n);
-    tbb::parallel_for(first, std::min(n, first + block), [&](std::size_t i) {
+    run.report("toolpaths", static_cast<double>(from - first) / (last - first));
+    tbb::parallel_for(from, std::min(last, from + block), [&](std::size_t i) {
       run.check();  // also inside a block: one layer of a pathological mesh can take long
       build_layer(i, regions, z, s, out);
     });
   }
+  out.erase(out.begin() + static_cast<std::ptrdiff_t>(last), out.end());
+  out.erase(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(first));
   add_sparse_infill(out, s, run);
   run.report("toolpaths", 1.0);
   return out;
 }
 
+}  // namespace
+
+std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vector<double>& z,
+                                               const ToolpathSettings& s, const RunContext& run) {
+  return build_layers(mesh, z, 0, z.size() < 2 ? 0 : z.size() - 1, s, run);
+}
+
+std::vector<LayerToolpaths> generate_region_toolpaths(const Mesh& mesh, const std::vector<double>& z, double model_height,
+                                                      const ToolpathSettings& s, const RunContext& run) {
+  if (z.size() < 2) return {};
+  // Context layers as thick as the region's outermost ones, through the skin thickness (to the
+  // bed and to the model's top at most).
+  std::vector<double> below, above;
+  const double h_low = z[1] - z[0], h_high = z.back() - z[z.size() - 2];
+  for (double b = z.front(); b > 1e-9 && z.front() - b < s.bottom_thickness - 1e-9;) below.push_back(b = std::max(0.0, b - h_low));
+  for (double t = z.back(); t < model_height - 1e-9 && t - z.back() < s.top_thickness - 1e-9;)
+    above.push_back(t = std::min(model_height, t + h_high));
+  std::vector<double> all(below.rbegin(), below.rend());
+  all.insert(all.end(), z.begin(), z.end());
+  all.insert(all.end(), above.begin(), above.end());
+  ToolpathSettings own = s;
+  own.skirt_distance = 0;  // one skirt round the merged first layer: add_skirt
+  return build_layers(mesh, all, below.size(), below.size() + z.size() - 1, own, run);
+}
+
 std::vector<LayerToolpaths> merge_by_print_height(const std::vector<std::vector<LayerToolpaths>>& regions) {
   std::vector<const LayerToolpaths*> all;
   for (const auto& region : regions)
-    for (const LayerToolpaths& layer : region) all.push_back(&layer);
+    for (const LayerToolpaths& layer : region)
+      if (!layer.paths.empty()) all.push_back(&layer);  // a region's layer above its part of the model
   std::stable_sort(all.begin(), all.end(), [](const LayerToolpaths* a, const LayerToolpaths* b) { return a->z_top < b->z_top; });
   std::vector<LayerToolpaths> out;
   constexpr double same = 1e-6;  // mm: tops closer than this are one printed layer
@@ -179,6 +211,14 @@ std::vector<LayerToolpaths> merge_by_print_height(const std::vector<std::vector<
   }
   for (LayerToolpaths& layer : out) layer.region = union_of(layer.region);
   return out;
+}
+
+void add_skirt(std::vector<LayerToolpaths>& layers, const ToolpathSettings& s) {
+  if (layers.empty() || !(s.skirt_distance > 0)) return;
+  LayerToolpaths skirt;
+  add_loops(union_of(offset(layers.front().region, s.skirt_distance)), s.line_width, ExtrusionRole::skirt, skirt);
+  auto& paths = layers.front().paths;
+  paths.insert(paths.begin(), skirt.paths.begin(), skirt.paths.end());
 }
 
 }  // namespace salient::core

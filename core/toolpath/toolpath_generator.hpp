@@ -17,10 +17,19 @@ namespace salient::core {
 std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vector<double>& boundaries_z,
                                                const ToolpathSettings& settings, const RunContext& run = {});
 
+// The layers `z` (boundaries, mm) of one region of a segmented plan: a slab of the model between
+// z.front() and z.back(), cut to settings.clip. What the model has above and below the slab (up to
+// `model_height`) decides where the region's skins go, as if it were sliced whole.
+std::vector<LayerToolpaths> generate_region_toolpaths(const Mesh& mesh, const std::vector<double>& z, double model_height,
+                                                      const ToolpathSettings& settings, const RunContext& run = {});
+
 // Multi-region plans (paper §5 and §7): each region is sliced with its own layers; the layers
 // of all regions are merged by print height — one printed layer per distinct top z, holding
 // every region's paths that end there, each keeping its own height (so its own extrusion).
 // The printed layer's height is the rise from the previous printed top.
 std::vector<LayerToolpaths> merge_by_print_height(const std::vector<std::vector<LayerToolpaths>>& regions);
+
+// The skirt round the first layer's outline, printed first (for merged multi-region layers).
+void add_skirt(std::vector<LayerToolpaths>& layers, const ToolpathSettings& settings);
 
 }  // namespace salient::core

@@ -32,11 +32,24 @@ sim_args = "$2"
 TOML
 }
 
+# eventually SECONDS COMMAND…: retry COMMAND (quietly) every 0.2 s until it succeeds or SECONDS have
+# passed; then its last run's output is shown and its status returned. Under sanitizers and a
+# loaded machine, "soon" can be many seconds.
+eventually() {
+  local deadline=$((SECONDS + $1)); shift
+  until "$@" > eventually.out 2>&1; do
+    if [ "$SECONDS" -ge "$deadline" ]; then cat eventually.out; return 1; fi
+    sleep 0.2
+  done
+  cat eventually.out
+}
+
 # same_commands GCODE LOG: the G-code's commands (comments and blank lines gone) against what the
 # simulator executed, without what the host adds on its own (M110 numbering, M115 handshake,
-# M155/M105 temperatures).
-same_commands() {
-  python3 - "$1" "$2" <<'PY' || fail "the simulator's log differs from $1"
+# M155/M105 temperatures). The simulator writes its log when idle: it is waited for.
+same_commands() { eventually 120 commands_match "$1" "$2" || fail "the simulator's log differs from $1"; }
+commands_match() {
+  python3 - "$1" "$2" <<'PY'
 import sys
 want = [l.split(';')[0].strip() for l in open(sys.argv[1])]
 want = [l for l in want if l]

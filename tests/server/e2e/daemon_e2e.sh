@@ -67,7 +67,8 @@ curl -s -f -H "X-Api-Key: $key" -o model.3mf "$base/api/v1/jobs/$id/model.3mf" &
 curl -s -f -H "X-Api-Key: $key" -o saliency.ply "$base/api/v1/jobs/$id/saliency.ply" && [ "$(head -c 3 saliency.ply)" = ply ] \
   || fail "saliency.ply"
 # The WebSocket client saw the job's phases in order, to done.
-sleep 0.5
+saw_done() { grep -q "\"id\":\"$id\".*\"state\":\"done\"\|\"state\":\"done\".*\"id\":\"$id\"" events.jsonl; }
+eventually 60 saw_done || fail "the events never showed job $id done: $(tail -3 events.jsonl)"
 kill "$watcher"; wait "$watcher" 2>/dev/null || true; watcher=
 python3 - "$id" events.jsonl <<'PY' || fail "events out of order"
 import json, sys
@@ -95,7 +96,6 @@ for _ in $(seq 3000); do  # 257,669 commands: ~10 s here, several times that und
 done
 [ "$(printer_field "['last_print']['state']")" = finished ] || fail "print did not finish: $(curl -s -H "X-Api-Key: $key" "$base/api/v1/printers/sim")"
 [ "$(printer_field "['last_print']['confirmed'] == d['last_print']['total']")" = True ] || fail "print not complete"
-sleep 0.5  # the simulator writes its log when idle
 same_commands bunny.gcode sim.log
 expect 400 bad_request -H "X-Api-Key: $key" -d '{"job": ' "$base/api/v1/printers/sim/print"
 expect 400 bad_request -H "X-Api-Key: $key" -d '{"frobnicate": 1}' "$base/api/v1/printers/sim/print"
