@@ -47,6 +47,8 @@ void add_plan_options(CLI::App& cmd, core::PlanOptions& o, bool& json) {
   cmd.add_option("--saliency-file", o.saliency_file,
                  "Per-vertex saliency, one value per line in the model file's vertex order (implies painted)");
   cmd.add_option("--seed", o.seed, "Seed for the random planner")->capture_default_str();
+  cmd.add_flag("--segment", o.segment,
+               "SegOpt (paper §5): cut the model by a vertical plane where slicing its parts apart saves time");
   cmd.add_flag("--json", json, "Print JSON instead of text");
 }
 

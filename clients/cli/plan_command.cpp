@@ -8,6 +8,10 @@
 #include "clients/cli/commands.hpp"
 #include "clients/cli/cli_options.hpp"
 #include "core/common/input_error.hpp"
+#include "clients/cli/segment_report.hpp"
+#include "core/pipeline/segmented_slicing.hpp"
+#include "core/printer/printer_profile.hpp"
+#include "core/segment/regions_svg.hpp"
 #include "core/slicing/plan_svg.hpp"
 
 namespace salient::cli {
@@ -60,6 +64,33 @@ void write_file(const std::string& path, const std::string& text) {
   if (!out) throw core::InputError(path, {}, "cannot write");
 }
 
+// plan --segment: SegOpt's regions, timed on the generic-i3 profile (plan has no printer).
+int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup, const core::Planner& planner) {
+  const auto printer = core::builtin_printer("generic-i3");
+  const auto t0 = std::chrono::steady_clock::now();
+  const core::SegOptResult r = core::segment_model(setup, planner, {}, *printer);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const core::ZProfile& p = *setup.profile;
+  const std::vector<double> heights = core::printed_heights(p, r.regions);
+  nlohmann::json j = {{"planner", o.plan.planner}, {"metric", o.plan.metric}, {"rho", setup.rho},
+                      {"count", heights.size()},   {"fine_layers", p.most_layers()}, {"seconds", seconds},
+                      {"printed_heights", heights}, {"segmentation", segmentation_json(r, p)}};
+  if (!o.output.empty()) write_file(o.output, j.dump(2) + "\n");
+  const std::string name = std::filesystem::path(o.plan.mesh.model).filename().string();
+  if (!o.svg.empty())
+    write_file(o.svg, core::regions_svg(p, r.regions, name + " — " + o.plan.planner + "+segopt, " +
+                                                        std::to_string(heights.size()) + " printed layers"));
+  if (o.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: %s planner with SegOpt, %s metric, %s saliency\n", name.c_str(), o.plan.planner.c_str(),
+              o.plan.metric.c_str(), o.plan.saliency.c_str());
+  std::printf("  layers   %zu printed heights (fine %d)\n  time     %.3f s\n", heights.size(), p.most_layers(), seconds);
+  print_segmentation(r, p);
+  return 0;
+}
+
 }  // namespace
 
 void add_plan_command(CLI::App& app, CommandAction& action) {
@@ -75,7 +106,14 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       resolve_auto_up(o->plan.mesh, &o->plan, o->json);
       const auto planner = core::make_planner(o->plan.planner);
       if (!planner) throw core::InputError("--planner", {}, "unknown planner '" + o->plan.planner + "'");
+      if (o->plan.segment && (o->plan.layers || o->plan.layer_height))
+        throw core::InputError("--segment", {}, "works to a quality target (--rho), not to a layer count");
+      if (o->plan.segment) {  // timed on generic-i3: placed on its bed
+        o->plan.mesh.bed_center_x = core::builtin_printer("generic-i3")->bed_center_x();
+        o->plan.mesh.bed_center_y = core::builtin_printer("generic-i3")->bed_center_y();
+      }
       const auto setup = core::prepare(o->plan);
+      if (o->plan.segment) return plan_segmented(*o, *setup, *planner);
       const core::PlanTarget target = core::target_of(o->plan, *setup);
       const auto t0 = std::chrono::steady_clock::now();
       const core::PlanResult result = planner->plan(setup->request(target));

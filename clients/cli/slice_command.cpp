@@ -85,6 +85,10 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       const core::SliceResult r = core::slice_model(settings, printer, core::RunContext{nullptr, progress_line()});
       write_atomically(o->output, r.gcode);
       if (r.orientation) print_orientation(*r.orientation);
+      if (r.segmentation) {
+        std::printf("segmentation: %s; whole %.1f min, parts %.1f min, result %.1f min\n", r.segmentation->note.c_str(),
+                    r.segmentation->whole_seconds / 60, r.segmentation->parts_seconds / 60, r.segmentation->seconds / 60);
+      }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf("%s: %d layers (finest %d, %.1f%% fewer) for %s; print %.0f min, %.2f m filament; sliced in %.2f s -> %s\n",
                   r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),

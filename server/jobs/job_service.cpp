@@ -38,6 +38,21 @@ Span span_of(std::string_view reported) {
   return {"plan", 0.4, 0.6};  // "plan" and the planners' own names
 }
 
+// What "segment" decided (null without it): cut or not and why, the times, the regions.
+nlohmann::json segmentation_json(const core::SliceResult& r) {
+  if (!r.segmentation) return nullptr;
+  const core::SegOptResult& g = *r.segmentation;
+  nlohmann::json regions = nlohmann::json::array();
+  for (const core::PlanRegion& region : g.regions)
+    regions.push_back({{"side", region.side}, {"layers", region.layers()}, {"E", region.error}, {"epsilon", region.epsilon}});
+  return {{"cut", g.cut},
+          {"note", g.note},
+          {"whole_seconds", g.whole_seconds},
+          {"parts_seconds", g.parts_seconds},
+          {"seconds", g.seconds},
+          {"regions", regions}};
+}
+
 // What "up": "auto" chose (null otherwise): the direction, and each candidate's scores.
 nlohmann::json orientation_json(const core::SliceResult& r) {
   if (!r.orientation) return nullptr;
@@ -177,8 +192,11 @@ void JobService::run(Job job) {
   double last_progress = -1;
   auto last_write = std::chrono::steady_clock::now();
   bool oriented = false;  // with "up": "auto", "orient" takes the first 30 % and the rest follows
+  bool segmenting = false;  // with "segment", its own progress stands for the planners' inside it
   core::RunContext run{token.get(), [&](std::string_view reported, double fraction) {
                          std::lock_guard lock(progress_mutex);  // reported from the solvers' threads too
+                         if (reported == "segment") segmenting = true;
+                         else if (segmenting && reported != "toolpaths" && reported != "gcode") return;
                          Span s = span_of(reported);
                          if (reported == "orient") s = {"orient", 0.0, 0.3}, oriented = true;
                          else if (oriented) s.from = 0.3 + 0.7 * s.from, s.to = 0.3 + 0.7 * s.to;
@@ -215,6 +233,7 @@ void JobService::run(Job job) {
                             {"rsmd", r.rsmd},
                             {"open_contours", r.open_contours},
                             {"orientation", orientation_json(r)},
+                            {"segmentation", segmentation_json(r)},
                             {"printer", printer.id},
                             {"gcode", gcode},
                             {"plan", plan_digest},
