@@ -7,17 +7,14 @@
 #include <sstream>
 
 #include "core/common/input_error.hpp"
+#include "core/common/fixed_text.hpp"
 #include "core/common/xml_escape.hpp"
 #include "core/export/zip_writer.hpp"
 
 namespace salient::core {
 namespace {
 
-std::string num(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof buf, "%.6f", v);
-  return buf;
-}
+std::string num(double v) { return fixed_text(v, 6); }
 
 
 }  // namespace

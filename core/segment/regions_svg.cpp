@@ -4,16 +4,13 @@
 #include <cstdio>
 #include <sstream>
 
+#include "core/common/fixed_text.hpp"
 #include "core/common/xml_escape.hpp"
 
 namespace salient::core {
 namespace {
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f", v);
-  return buf;
-}
+std::string num(double v) { return fixed_text(v, 2); }
 
 }  // namespace
 

@@ -2,6 +2,7 @@
 // layer's thickness (α..ᾱ), coloured thin = red to thick = blue. Right: S[k] per cell.
 #include "core/slicing/plan_svg.hpp"
 
+#include "core/common/fixed_text.hpp"
 #include "core/common/xml_escape.hpp"
 
 #include <algorithm>
@@ -11,11 +12,7 @@
 namespace salient::core {
 namespace {
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2f", v);
-  return buf;
-}
+std::string num(double v) { return fixed_text(v, 2); }
 
 
 }  // namespace

@@ -29,6 +29,8 @@ for m in stanford-bunny.obj:y spot.obj:y fandisk.obj:y; do
 done
 echo "== automatic orientation (--up auto) on the shared models"
 bash tests/bench/orient_bench.sh "$build"
+echo "== SegOpt (--segment) on the shared models and a half-salient sphere"
+bash tests/bench/segopt_bench.sh "$build"
 echo "== daemon: wrk on the printer status (idle, while slicing), idle memory, 200 WebSocket subscribers"
 bash tests/bench/daemon_bench.sh "$build"
 echo "== printer link: lines per second to salient-sim, ours vs printcore; share of a 250,000 baud wire"
