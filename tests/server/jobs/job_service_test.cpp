@@ -4,6 +4,7 @@
 #include <chrono>
 #include <fstream>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
 
@@ -107,6 +108,14 @@ TEST_CASE("submit refuses bad settings (400), unknown formats (415), unreadable 
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"up": "0,0,0"})"); }) == 400);
   CHECK(parse_job_settings(R"({"up": "auto"})").slice.plan.mesh.up == "auto");  // chosen when it runs
   CHECK(parse_job_settings(R"({"up": "0,-1,0.2"})").slice.plan.mesh.up == "0,-1,0.2");
+  // "segment": SegOpt; only in the canonical form when asked (older jobs' reuse keys stay as they were).
+  CHECK(parse_job_settings(R"({"segment": true})").slice.plan.segment);
+  CHECK(parse_job_settings(R"({"segment": true})").canonical.find("\"segment\":true") != std::string::npos);
+  CHECK(parse_job_settings("").canonical.find("segment") == std::string::npos);
+  CHECK(parse_job_settings(R"({"segment": false})").canonical == parse_job_settings("").canonical);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "layers": 5})"); }) == 400);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "planner": "ha13"})"); }) == 400);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": "yes"})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"rho": 0.1, "layers": 5})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"([[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]])"); }) == 400);
   CHECK(status_of([&] { service.submit("notes.txt", "hello, this is not a mesh", ""); }) == 415);
@@ -150,4 +159,29 @@ TEST_CASE("client file names are made safe") {
   CHECK(sanitize_filename("..") == "model");
   CHECK(sanitize_filename("") == "model");
   CHECK(sanitize_filename(".hidden.obj") == "hidden.obj");
+}
+
+TEST_CASE("a job with \"segment\" runs SegOpt and reports its decision, progress never going back") {
+  const salient::test::ScratchDir dir("jobs-segment");
+  Store store(dir.path);
+  std::mutex m;
+  std::vector<double> progress;
+  JobService service(store, {}, [&](const Job& j) {
+    std::lock_guard lock(m);
+    if (j.state == JobState::running) progress.push_back(j.progress);
+  });
+  service.start();
+  const auto submitted = service.submit("spot.obj", model_bytes("spot.obj"), R"({"up": "y", "height": 20, "segment": true})");
+  const Job done = wait_finished(store, submitted.job.id);
+  REQUIRE(done.state == JobState::done);
+  REQUIRE(done.result);
+  const auto result = nlohmann::json::parse(*done.result);
+  const auto& seg = result.at("segmentation");
+  CHECK(seg.at("cut").is_boolean());
+  CHECK_FALSE(seg.at("note").get<std::string>().empty());
+  CHECK(seg.at("whole_seconds").get<double>() > 0);
+  CHECK(seg.at("seconds").get<double>() <= seg.at("whole_seconds").get<double>());
+  CHECK(seg.at("regions").size() >= 1);
+  std::lock_guard lock(m);
+  for (std::size_t i = 1; i < progress.size(); ++i) CHECK(progress[i] >= progress[i - 1]);
 }
