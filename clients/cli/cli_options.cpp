@@ -49,6 +49,9 @@ void add_plan_options(CLI::App& cmd, core::PlanOptions& o, bool& json) {
   cmd.add_option("--seed", o.seed, "Seed for the random planner")->capture_default_str();
   cmd.add_flag("--segment", o.segment,
                "SegOpt (paper §5): cut the model by a vertical plane where slicing its parts apart saves time");
+  cmd.add_option("--segment-depth", o.segment_depth, "With --segment: levels of cutting (2 and more cut each part again)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 4));
   cmd.add_flag("--json", json, "Print JSON instead of text");
 }
 

@@ -68,7 +68,9 @@ void write_file(const std::string& path, const std::string& text) {
 int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup, const core::Planner& planner) {
   const auto printer = core::builtin_printer("generic-i3");
   const auto t0 = std::chrono::steady_clock::now();
-  const core::SegOptResult r = core::segment_model(setup, planner, {}, *printer);
+  core::SegOptOptions options;
+  options.depth = o.plan.segment_depth;
+  const core::SegOptResult r = core::segment_model(setup, planner, {}, *printer, {}, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const core::ZProfile& p = *setup.profile;
   const std::vector<double> heights = core::printed_heights(p, r.regions);

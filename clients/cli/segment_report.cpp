@@ -1,11 +1,17 @@
 #include "clients/cli/segment_report.hpp"
 
 #include <cstdio>
+#include <string>
 
 namespace salient::cli {
 namespace {
 
-const char* side_name(int side) { return side < 0 ? "whole" : side == 0 ? "part 0" : "part 1"; }
+std::string part_name(const core::PlanRegion& r) {
+  if (r.side < 0) return "whole";
+  std::string name = "part " + std::to_string(r.side);
+  for (int s : r.sub) name += "." + std::to_string(s);
+  return name;
+}
 
 }  // namespace
 
@@ -19,7 +25,7 @@ void print_segmentation(const core::SegOptResult& r, const core::ZProfile& whole
   if (r.parts_seconds > 0) std::printf(", parts %.1f min (%.0f%%)", r.parts_seconds / 60, 100 * r.parts_seconds / r.whole_seconds);
   std::printf(", result %.1f min\n", r.seconds / 60);
   for (const core::PlanRegion& region : r.regions)
-    std::printf("  region    %-6s z %7.2f..%7.2f mm  %4d layers  E %.6g (epsilon %.6g)\n", side_name(region.side),
+    std::printf("  region    %-10s z %7.2f..%7.2f mm  %4d layers  E %.6g (epsilon %.6g)\n", part_name(region).c_str(),
                 whole.z(region.first_cell), whole.z(region.last_cell), region.layers(), region.error, region.epsilon);
 }
 
@@ -30,7 +36,7 @@ nlohmann::json segmentation_json(const core::SegOptResult& r, const core::ZProfi
     for (int b : region.plan.boundaries) z.push_back(whole.z(b));
     nlohmann::json clip = nlohmann::json::array();
     for (const core::Point2& p : region.clip) clip.push_back({p.x, p.y});
-    regions.push_back({{"side", region.side}, {"z_bottom", whole.z(region.first_cell)}, {"z_top", whole.z(region.last_cell)},
+    regions.push_back({{"side", region.side}, {"sub", region.sub}, {"z_bottom", whole.z(region.first_cell)}, {"z_top", whole.z(region.last_cell)},
                        {"layers", region.layers()}, {"E", region.error}, {"epsilon", region.epsilon},
                        {"boundaries", z}, {"clip", clip}});
   }

@@ -46,11 +46,11 @@ double region_print_seconds(const Mesh& mesh, const ZProfile& whole, const std::
 }
 
 SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner, const RegionSliceSettings& settings,
-                           const PrinterProfile& printer, const RunContext& run, const SegOptOptions& options) {
+                           const PrinterProfile& printer, const RunContext& run, SegOptOptions options) {
   if (planner.name() == "ha13")
     throw InputError("--planner", {}, "ha13 cuts the whole model's sections, so it cannot plan the parts of --segment");
   const Mesh& mesh = setup.model.loaded.mesh;
-  const SegOptInput input{mesh, setup.saliency, *setup.profile, setup.objective->metric(), planner, setup.rho, setup.seed};
+  const SegOptInput input{mesh, setup.saliency, *setup.profile, setup.objective->metric(), planner, setup.rho, setup.seed, nullptr, {}};
   // The time estimates slice quietly: their toolpath progress is not the job's.
   RunContext quiet{run.cancel, {}};
   const RegionTimer timer = [&](const std::vector<PlanRegion>& regions) {

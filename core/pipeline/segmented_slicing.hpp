@@ -30,7 +30,7 @@ double region_print_seconds(const Mesh& mesh, const ZProfile& whole, const std::
 // SegOpt on a prepared model with `planner` at the setup's ρ, timed on `printer`. Throws
 // InputError for a planner that needs more than the objective (ha13 cuts the whole mesh).
 SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner, const RegionSliceSettings& settings,
-                           const PrinterProfile& printer, const RunContext& run = {}, const SegOptOptions& options = {});
+                           const PrinterProfile& printer, const RunContext& run = {}, SegOptOptions options = {});
 
 // The printed heights (layer tops, mm) of a multi-region plan, merged.
 std::vector<double> printed_heights(const ZProfile& whole, const std::vector<PlanRegion>& regions);

@@ -42,7 +42,9 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   SliceResult out;
   out.orientation = std::move(orientation);
   if (plan.segment) {
-    out.segmentation = segment_model(*setup, *planner, region_settings, printer, run);
+    SegOptOptions options;
+    options.depth = plan.segment_depth;
+    out.segmentation = segment_model(*setup, *planner, region_settings, printer, run, options);
     regions = out.segmentation->regions;
     double e_coarse = 0;
     for (const PlanRegion& r : regions) e_coarse += setup->rho > 0 ? r.epsilon / setup->rho : 0;

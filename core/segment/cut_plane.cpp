@@ -2,8 +2,11 @@
 
 namespace salient::core {
 
-Polygon half_plane(const CutPlane& plane, int side, const Point2& min, const Point2& max) {
-  const Polygon box{{min.x, min.y}, {max.x, min.y}, {max.x, max.y}, {min.x, max.y}};
+Polygon rectangle(const Point2& min, const Point2& max) {
+  return {{min.x, min.y}, {max.x, min.y}, {max.x, max.y}, {min.x, max.y}};
+}
+
+Polygon half_plane(const CutPlane& plane, int side, const Polygon& box) {
   // Sutherland–Hodgman against one half-plane: keep where the signed distance is ≤ 0.
   const auto d = [&](const Point2& p) { return side == 0 ? plane.distance(p) : -plane.distance(p); };
   Polygon out;

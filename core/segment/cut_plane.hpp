@@ -17,8 +17,11 @@ struct CutPlane {
   int side(const Vec3& p) const { return distance(p) < 0 ? 0 : 1; }
 };
 
-// The part of the rectangle [min, max] (XY) on `side` of the plane, counter-clockwise: the clip
-// polygon a side's toolpaths are cut to. Empty if the plane leaves nothing of it on that side.
-Polygon half_plane(const CutPlane& plane, int side, const Point2& min, const Point2& max);
+// The part of a convex polygon (counter-clockwise) on `side` of the plane, counter-clockwise: the
+// clip polygon a part's toolpaths are cut to. Empty if the plane leaves nothing on that side.
+Polygon half_plane(const CutPlane& plane, int side, const Polygon& convex);
+
+// The rectangle [min, max], counter-clockwise.
+Polygon rectangle(const Point2& min, const Point2& max);
 
 }  // namespace salient::core

@@ -47,15 +47,15 @@ class PartBuilder {
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> cut_;
 };
 
-}  // namespace
-
-std::array<MeshPart, 2> split_mesh(const Mesh& mesh, std::span<const float> values, const CutPlane& plane) {
+// Side 0 where distance(p) < 0.
+template <class Distance>
+std::array<MeshPart, 2> split_by(const Mesh& mesh, std::span<const float> values, const Distance& distance) {
   PartBuilder parts[2] = {PartBuilder(mesh, values), PartBuilder(mesh, values)};
   for (const Triangle& t : mesh.triangles) {
     double d[3];
     int side[3], count1 = 0;
     for (int k = 0; k < 3; ++k) {
-      d[k] = plane.distance(mesh.positions[t[k]]);
+      d[k] = distance(mesh.positions[t[k]]);
       side[k] = d[k] < 0 ? 0 : 1;
       count1 += side[k];
     }
@@ -81,6 +81,17 @@ std::array<MeshPart, 2> split_mesh(const Mesh& mesh, std::span<const float> valu
     rest.face(ab_r, vc, ca_r);
   }
   return {std::move(parts[0].part), std::move(parts[1].part)};
+}
+
+}  // namespace
+
+std::array<MeshPart, 2> split_mesh(const Mesh& mesh, std::span<const float> values, const CutPlane& plane) {
+  return split_by(mesh, values, [&](const Vec3& p) { return plane.distance(p); });
+}
+
+MeshPart crop_z(const Mesh& mesh, std::span<const float> values, double z0, double z1) {
+  auto above = std::move(split_by(mesh, values, [&](const Vec3& p) { return p.z - z0; })[1]);
+  return std::move(split_by(above.mesh, above.values, [&](const Vec3& p) { return p.z - z1; })[0]);
 }
 
 }  // namespace salient::core

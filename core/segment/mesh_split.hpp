@@ -20,4 +20,7 @@ struct MeshPart {
 // Faces crossing the plane are cut along it; new vertices interpolate position and value.
 std::array<MeshPart, 2> split_mesh(const Mesh& mesh, std::span<const float> values, const CutPlane& plane);
 
+// The part of the surface between heights z0 and z1 (a slab of a part, for recursive SegOpt).
+MeshPart crop_z(const Mesh& mesh, std::span<const float> values, double z0, double z1);
+
 }  // namespace salient::core

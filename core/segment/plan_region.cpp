@@ -1,28 +1,54 @@
 #include "core/segment/plan_region.hpp"
 
+#include "core/geometry/polygon_ops.hpp"
+
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <set>
 
 namespace salient::core {
+namespace {
 
-bool touching(const PlanRegion& a, const PlanRegion& b) {
-  return a.side >= 0 && b.side >= 0 && a.side != b.side && a.first_cell < b.last_cell && b.first_cell < a.last_cell;
+// Whether a set of cut paths tiles the section: no path is a prefix of another and the shares
+// (½ per cut) add up to one.
+bool tiles(std::vector<std::vector<int>> paths) {
+  std::sort(paths.begin(), paths.end());
+  double share = 0;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    if (i > 0 && paths[i].size() >= paths[i - 1].size() &&
+        std::equal(paths[i - 1].begin(), paths[i - 1].end(), paths[i].begin()))
+      return false;
+    share += std::ldexp(1.0, -static_cast<int>(paths[i].size()));
+  }
+  return std::fabs(share - 1) < 1e-12;
 }
 
-std::vector<char> seam_allowed(const ZProfile& whole, int first_cell, int last_cell, const PlanRegion& neighbour) {
+}  // namespace
+
+bool touching(const PlanRegion& a, const PlanRegion& b) {
+  if (!(a.side >= 0 && b.side >= 0 && (a.side != b.side || a.sub != b.sub) && a.first_cell < b.last_cell &&
+        b.first_cell < a.last_cell))
+    return false;
+  if (a.clip.empty() || b.clip.empty()) return true;
+  // Parts of a deeper cut may lie apart: only those sharing a piece of border print side by side.
+  return intersection_area(offset({a.clip}, 0.01), {b.clip}) > 1e-9;
+}
+
+std::vector<char> seam_allowed(const ZProfile& whole, int first_cell, int last_cell,
+                               const std::vector<const PlanRegion*>& neighbours) {
   std::vector<char> allowed(last_cell - first_cell + 1, 1);
   const int alpha = whole.min_cells();
-  for (int b : neighbour.plan.boundaries)
-    for (int k = std::max(first_cell, b - alpha + 1); k <= std::min(last_cell, b + alpha - 1); ++k)
-      if (k != b) allowed[k - first_cell] = 0;
+  for (const PlanRegion* neighbour : neighbours)
+    for (int b : neighbour->plan.boundaries)
+      for (int k = std::max(first_cell, b - alpha + 1); k <= std::min(last_cell, b + alpha - 1); ++k)
+        if (k != b) allowed[k - first_cell] = 0;
   allowed.front() = allowed.back() = 1;
   return allowed;
 }
 
 std::string check_regions(const ZProfile& whole, const std::vector<PlanRegion>& regions) {
   const int m = whole.cells(), alpha = whole.min_cells(), alpha_max = whole.max_cells();
-  std::vector<int> whole_cover(m, 0), side_cover[2] = {std::vector<int>(m, 0), std::vector<int>(m, 0)};
   for (std::size_t r = 0; r < regions.size(); ++r) {
     const PlanRegion& region = regions[r];
     const std::string name = "region " + std::to_string(r);
@@ -36,14 +62,24 @@ std::string check_regions(const ZProfile& whole, const std::vector<PlanRegion>& 
       if (w < alpha) return name + ": layer " + std::to_string(i) + " thinner than α";
       if (w > alpha_max) return name + ": layer " + std::to_string(i) + " thicker than ᾱ";
     }
-    if (region.side < -1 || region.side > 1) return name + ": no such side";
-    for (int k = region.first_cell; k < region.last_cell; ++k)
-      ++(region.side < 0 ? whole_cover[k] : side_cover[region.side][k]);
+    if (region.side < -1 || region.side > 1 || (region.side < 0 && !region.sub.empty())) return name + ": no such part";
+    for (int s : region.sub)
+      if (s != 0 && s != 1) return name + ": no such part";
   }
-  for (int k = 0; k < m; ++k) {
-    const bool once = whole_cover[k] == 1 ? side_cover[0][k] == 0 && side_cover[1][k] == 0
-                                          : whole_cover[k] == 0 && side_cover[0][k] == 1 && side_cover[1][k] == 1;
-    if (!once) return "height " + std::to_string(whole.z(k)) + " mm is not covered exactly once";
+  // Coverage, slab by slab between the regions' horizontal boundaries.
+  std::set<int> cuts{0, m};
+  for (const PlanRegion& r : regions) cuts.insert(r.first_cell), cuts.insert(r.last_cell);
+  for (auto it = cuts.begin(); std::next(it) != cuts.end(); ++it) {
+    const int k = *it;
+    std::vector<std::vector<int>> paths;
+    int wholes = 0;
+    for (const PlanRegion& r : regions) {
+      if (r.first_cell > k || r.last_cell <= k) continue;
+      if (r.side < 0) ++wholes;
+      else paths.push_back(r.sub), paths.back().insert(paths.back().begin(), r.side);
+    }
+    if (!(wholes == 1 ? paths.empty() : wholes == 0 && tiles(paths)))
+      return "height " + std::to_string(whole.z(k)) + " mm is not covered exactly once";
   }
   for (std::size_t r = 0; r < regions.size(); ++r)
     for (std::size_t q = r + 1; q < regions.size(); ++q) {

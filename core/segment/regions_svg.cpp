@@ -36,10 +36,13 @@ std::string regions_svg(const ZProfile& p, const std::vector<PlanRegion>& region
       const double zb = p.z(r.plan.boundaries[i]), zt = p.z(r.plan.boundaries[i + 1]), h = zt - zb;
       const double t = b > a ? std::clamp((h - a) / (b - a), 0.0, 1.0) : 0.0;
       const int red = static_cast<int>(220 * (1 - t)), blue = static_cast<int>(220 * t);
-      const double len = col_w * std::clamp(h / b, 0.0, 1.0);
+      // A part cut again takes its share of its side's column, by the sides it lies on.
+      double share = 1, offset = 0;
+      for (int sub : r.sub) share /= 2, offset += sub * share;
+      const double len = share * col_w * std::clamp(h / b, 0.0, 1.0);
       for (int c = 0; c < 2; ++c) {
         if (r.side >= 0 && r.side != c) continue;
-        s << "<rect x=\"" << col_x[c] << "\" y=\"" << num(y_of(zt)) << "\" width=\"" << num(len) << "\" height=\""
+        s << "<rect x=\"" << num(col_x[c] + offset * col_w) << "\" y=\"" << num(y_of(zt)) << "\" width=\"" << num(len) << "\" height=\""
           << num(std::max(0.3, y_of(zb) - y_of(zt))) << "\" fill=\"rgb(" << red << ",60," << blue
           << ")\" stroke=\"white\" stroke-width=\"0.2\"/>\n";
       }

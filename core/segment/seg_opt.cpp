@@ -63,10 +63,33 @@ std::optional<LayerPlan> exact_on_allowed(const Objective& objective, std::vecto
   return std::nullopt;
 }
 
-bool meets(const ZProfile& p, const PlanRegion& region, const PlanRegion& neighbour) {
-  const std::vector<char> allowed = seam_allowed(p, region.first_cell, region.last_cell, neighbour);
+bool meets(const ZProfile& p, const PlanRegion& region, const std::vector<const PlanRegion*>& meet) {
+  if (meet.empty()) return true;
+  const std::vector<char> allowed = seam_allowed(p, region.first_cell, region.last_cell, meet);
   return std::all_of(region.plan.boundaries.begin(), region.plan.boundaries.end(),
                      [&](int b) { return allowed[b - region.first_cell] != 0; });
+}
+
+// A region of this level: `side` of this level's cut (-1: the part itself, uncut in that slab).
+PlanRegion shape_of(const SegOptInput& in, int first, int last, int side, Polygon clip) {
+  PlanRegion r;
+  r.first_cell = first;
+  r.last_cell = last;
+  if (in.part) {
+    r.side = in.part->side;
+    r.sub = in.part->sub;
+    if (side >= 0) r.sub.push_back(side);
+    r.clip = side >= 0 ? std::move(clip) : in.part->clip;
+  } else {
+    r.side = side;
+    r.clip = std::move(clip);
+  }
+  return r;
+}
+
+std::vector<const PlanRegion*> with(std::vector<const PlanRegion*> list, const PlanRegion* more) {
+  list.push_back(more);
+  return list;
 }
 
 }  // namespace
@@ -86,42 +109,55 @@ std::array<double, 2> split_budget(const ZProfile& part0, const ZProfile& part1,
   return {best_e0, std::max(0.0, epsilon - best_e0)};
 }
 
-std::optional<PlanRegion> plan_region(const ZProfile& profile, int first, int last, int side, Polygon clip,
-                                      std::optional<double> epsilon, const SegOptInput& in, const PlanRegion* neighbour,
-                                      const RunContext& run) {
+std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region, std::optional<double> epsilon,
+                                      const SegOptInput& in, const std::vector<const PlanRegion*>& candidates,
+                                      const RunContext& run, const std::vector<const PlanRegion*>& align) {
+  const int first = region.first_cell, last = region.last_cell;
+  std::vector<const PlanRegion*> meet;  // those it touches
+  for (const PlanRegion* n : candidates)
+    if (touching(region, *n)) meet.push_back(n);
   const ZProfile slab = profile.window(first, last);
   const Objective objective(slab, in.metric);
-  PlanRegion region;
-  region.first_cell = first;
-  region.last_cell = last;
-  region.side = side;
-  region.clip = std::move(clip);
   region.epsilon = epsilon ? *epsilon : objective.epsilon(in.rho);
   const PlanRequest request{objective, nullptr, nullptr, PlanTarget::within(region.epsilon), in.seed, run};
   LayerPlan local = in.planner.plan(request).plan;
   const auto to_whole = [&](const LayerPlan& plan) {
-    PlanRegion r = region;
-    r.plan.boundaries.clear();
-    for (int b : plan.boundaries) r.plan.boundaries.push_back(b + first);
-    return r;
+    region.plan.boundaries.clear();
+    for (int b : plan.boundaries) region.plan.boundaries.push_back(b + first);
   };
-  region = to_whole(local);
-  if (neighbour && !meets(profile, region, *neighbour)) {
-    const auto constrained = exact_on_allowed(objective, seam_allowed(profile, first, last, *neighbour), region.epsilon, run);
+  to_whole(local);
+  if (!align.empty()) {
+    // Only on `align`'s boundaries (where they keep the rule with its own neighbours): a part
+    // whose finer partner must meet both it and those leaves the partner one set to avoid.
+    std::vector<char> on = seam_allowed(profile, first, last, meet);
+    std::vector<char> theirs(on.size(), 0);
+    for (const PlanRegion* n : align)
+      for (int b : n->plan.boundaries)
+        if (b >= first && b <= last) theirs[b - first] = 1;
+    for (std::size_t k = 1; k + 1 < on.size(); ++k) on[k] = on[k] && theirs[k];
+    if (const auto aligned = exact_on_allowed(objective, on, region.epsilon, run)) {
+      local = *aligned;
+      to_whole(local);
+    }
+  }
+  if (!meets(profile, region, meet)) {
+    const auto constrained = exact_on_allowed(objective, seam_allowed(profile, first, last, meet), region.epsilon, run);
     if (!constrained) return std::nullopt;
     local = *constrained;
-    region = to_whole(local);
+    to_whole(local);
   }
   region.error = objective.error(local);
   return region;
 }
 
 SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const SegOptOptions& o, const RunContext& run) {
-  const ZProfile& whole = in.profile;
-  const int m = whole.cells();
+  const ZProfile& whole = in.profile;  // the part's own profile when in.part is set
+  const int first_cell = in.part ? in.part->first_cell : 0, last_cell = in.part ? in.part->last_cell : whole.cells();
   SegOptResult out;
   run.report("segment", 0);
-  const auto single = plan_region(whole, 0, m, -1, {}, std::nullopt, in, nullptr, run);
+  const std::optional<PlanRegion> single =
+      in.part ? *in.part : plan_region(whole, shape_of(in, first_cell, last_cell, -1, {}), std::nullopt, in, in.neighbours, run);
+  if (!single) throw std::logic_error("seg_opt: a whole model always has a plan");
   out.regions = {*single};
   out.whole_seconds = out.seconds = seconds(out.regions);
 
@@ -135,14 +171,19 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   const CutPlane plane = out.seam->plane;
   const auto parts = split_mesh(in.mesh, in.saliency, plane);
   const BoundingBox box = bounding_box(in.mesh);
-  const Point2 lo{box.min.x - 5, box.min.y - 5}, hi{box.max.x + 5, box.max.y + 5};
-  const Polygon clip[2] = {half_plane(plane, 0, lo, hi), half_plane(plane, 1, lo, hi)};
+  const Polygon area = in.part && !in.part->clip.empty() ? in.part->clip
+                                                         : rectangle({box.min.x - 5, box.min.y - 5}, {box.max.x + 5, box.max.y + 5});
+  const Polygon clip[2] = {half_plane(plane, 0, area), half_plane(plane, 1, area)};
   std::vector<ZProfile> profile;
   for (int s = 0; s < 2; ++s) profile.push_back(ZProfile::build(parts[s].mesh, parts[s].values, whole.params(), run, whole.height()));
   run.report("segment", 0.4);
-  const auto budget = split_budget(profile[0], profile[1], in.metric, single->epsilon, parts[0].area, parts[1].area, run);
+  const auto budget = split_budget(profile[0].window(first_cell, last_cell), profile[1].window(first_cell, last_cell), in.metric,
+                                   single->epsilon, parts[0].area, parts[1].area, run);
   std::vector<PlanRegion> halves;
-  for (int s = 0; s < 2; ++s) halves.push_back(*plan_region(profile[s], 0, m, s, clip[s], budget[s], in, nullptr, run));
+  for (int s = 0; s < 2; ++s) {
+    const auto half = plan_region(profile[s], shape_of(in, first_cell, last_cell, s, clip[s]), budget[s], in, {}, run);
+    halves.push_back(*half);
+  }
   out.parts_seconds = seconds(halves);  // T1 + T2, printed together as they will be
   out.parts = halves;
   const double ratio = out.parts_seconds / out.whole_seconds;
@@ -157,10 +198,10 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   std::vector<int> critical;
   for (int s = 0; s < 2; ++s) add_critical(profile[s], halves[s].plan, o.critical_jump, critical);
   std::sort(critical.begin(), critical.end());
-  std::vector<int> cuts{0};
+  std::vector<int> cuts{first_cell};
   for (int c : critical)
-    if (c > cuts.back() && printable(whole, c - cuts.back()) && printable(whole, m - c)) cuts.push_back(c);
-  cuts.push_back(m);
+    if (c > cuts.back() && printable(whole, c - cuts.back()) && printable(whole, last_cell - c)) cuts.push_back(c);
+  cuts.push_back(last_cell);
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     run.check();
     Slab slab{cuts[i], cuts[i + 1], false};
@@ -171,6 +212,9 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   // Runs of alike slabs become one region (or one pair): the fewest seams.
   std::vector<PlanRegion> regions;
   bool any_cut = false;
+  const auto uncut = [&](int first, int last) {
+    return plan_region(whole, shape_of(in, first, last, -1, {}), std::nullopt, in, in.neighbours, run);
+  };
   for (std::size_t i = 0; i < out.slabs.size();) {
     std::size_t j = i;
     double loss[2] = {0, 0};
@@ -181,33 +225,59 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
     const int first = out.slabs[i].first_cell, last = out.slabs[j - 1].last_cell;
     std::optional<PlanRegion> pair[2];
     if (!out.slabs[i].merged) {
-      const int first_planned = loss[0] >= loss[1] ? 0 : 1;  // the coarser part
       const double eps = Objective(whole.window(first, last), in.metric).epsilon(in.rho);
       const auto share = split_budget(profile[0].window(first, last), profile[1].window(first, last), in.metric, eps,
                                       parts[0].area, parts[1].area, run);
-      const int a = first_planned, b = 1 - first_planned;
-      pair[a] = plan_region(profile[a], first, last, a, clip[a], share[a], in, nullptr, run);
-      // The finer part gets what the coarser one left of the slab's budget (meeting the coarser
-      // one's layers costs it some quality).
-      pair[b] = plan_region(profile[b], first, last, b, clip[b], eps - pair[a]->error, in, &*pair[a], run);
+      // One part is planned first, the other then meets its layers (and gets what the first left
+      // of the slab's budget). Which order costs less depends on the parts: a thin part inside a
+      // thick one's layers keeps most of its choices, unless it must keep exactly α layers; so
+      // both are tried, and the one with fewer layers (weighted by the parts' areas) is kept.
+      double best = INFINITY;
+      for (int a : {loss[0] >= loss[1] ? 0 : 1, loss[0] >= loss[1] ? 1 : 0}) {
+        const int b = 1 - a;
+        const PlanRegion shape_b = shape_of(in, first, last, b, clip[b]);
+        std::vector<const PlanRegion*> beside_b;  // what the second part must meet besides the first
+        for (const PlanRegion* n : in.neighbours)
+          if (touching(shape_b, *n)) beside_b.push_back(n);
+        // If what is left is not enough for the second part, the first gives up more of its share.
+        for (double give : {1.0, 0.5, 0.25}) {
+          auto pa = plan_region(profile[a], shape_of(in, first, last, a, clip[a]), give * share[a], in, in.neighbours, run, beside_b);
+          if (!pa) continue;
+          auto pb = plan_region(profile[b], shape_b, eps - pa->error, in, with(in.neighbours, &*pa), run);
+          if (!pb) continue;
+          const double cost = parts[a].area * pa->layers() + parts[b].area * pb->layers();
+          if (cost < best) best = cost, pair[a] = std::move(pa), pair[b] = std::move(pb);
+          break;
+        }
+      }
     }
+    std::optional<PlanRegion> merged;
+    if (!(pair[0] && pair[1])) merged = uncut(first, last);
     if (pair[0] && pair[1]) {
       regions.push_back(std::move(*pair[0]));
       regions.push_back(std::move(*pair[1]));
       any_cut = true;
-    } else {
+    } else if (merged) {
       if (!out.slabs[i].merged)
         for (std::size_t k = i; k < j; ++k) out.slabs[k].merged = true;  // the parts could not meet
-      regions.push_back(*plan_region(whole, first, last, -1, {}, std::nullopt, in, nullptr, run));
+      regions.push_back(std::move(*merged));
+    } else {
+      out.note = "not cut: a slab of the part cannot meet its neighbours' layers within its budget";
+      return out;
     }
     i = j;
   }
-  // Neighbouring whole-section regions (after a failed pair) join into one.
+  // Neighbouring uncut regions (after a failed pair) join into one.
   std::vector<PlanRegion> joined;
   for (PlanRegion& r : regions) {
-    if (!joined.empty() && r.side < 0 && joined.back().side < 0) {
-      joined.back() = *plan_region(whole, joined.back().first_cell, r.last_cell, -1, {}, std::nullopt, in, nullptr, run);
-      continue;
+    const bool uncut_here = r.sub.size() == (in.part ? in.part->sub.size() : 0) && (in.part || r.side < 0);
+    const bool after_uncut = !joined.empty() && joined.back().sub.size() == r.sub.size() && joined.back().side == r.side &&
+                             joined.back().clip == r.clip;
+    if (uncut_here && after_uncut) {
+      if (auto j = uncut(joined.back().first_cell, r.last_cell)) {
+        joined.back() = std::move(*j);
+        continue;
+      }
     }
     joined.push_back(std::move(r));
   }
@@ -215,6 +285,30 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   if (!any_cut) {
     out.note = "not cut: the parts are sliced alike at every height, so every vertical seam was merged away";
     return out;
+  }
+  // Algorithm 1, recursively: each part cut again where that saves time.
+  int deeper = 0;
+  if (o.depth > 1) {
+    SegOptOptions next = o;
+    next.depth = o.depth - 1;
+    for (std::size_t k = 0; k < joined.size(); ++k) {
+      const PlanRegion r = joined[k];
+      if (r.sub.size() != (in.part ? in.part->sub.size() + 1 : 0) || r.side < 0) continue;  // an uncut slab
+      const int s = in.part ? r.sub.back() : r.side;
+      const MeshPart slab = crop_z(parts[s].mesh, parts[s].values, whole.z(r.first_cell), whole.z(r.last_cell));
+      // The part's budget becomes its own ρ, so its slabs share ε as the whole model's do.
+      const double e_coarse = Objective(profile[s].window(r.first_cell, r.last_cell), in.metric).e_coarse();
+      const double rho = e_coarse > 0 ? r.epsilon / e_coarse : in.rho;
+      SegOptInput sub{slab.mesh, slab.values, profile[s], in.metric, in.planner, rho, in.seed, &r, in.neighbours};
+      for (std::size_t q = 0; q < joined.size(); ++q)
+        if (q != k) sub.neighbours.push_back(&joined[q]);
+      const SegOptResult inner = seg_opt(sub, seconds, next, run);
+      if (!inner.cut) continue;
+      joined.erase(joined.begin() + static_cast<std::ptrdiff_t>(k));
+      joined.insert(joined.begin() + static_cast<std::ptrdiff_t>(k), inner.regions.begin(), inner.regions.end());
+      k += inner.regions.size() - 1;
+      deeper += static_cast<int>(inner.regions.size()) - 1;
+    }
   }
   const double t = seconds(joined);
   if (!(t < out.whole_seconds)) {
@@ -228,6 +322,7 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   for (const Slab& s : out.slabs) split += !s.merged;
   out.note = "cut: " + std::to_string(out.regions.size()) + " regions, " + std::to_string(split) + " of " +
              std::to_string(out.slabs.size()) + " slabs keep the vertical seam";
+  if (deeper > 0) out.note += ", " + std::to_string(deeper) + " more from cutting the parts again";
   run.report("segment", 1);
   return out;
 }

@@ -29,6 +29,7 @@ struct SegOptOptions {
   double tau = 0.85;            // keep the cut if (T1 + T2)/T < τ
   double critical_jump = 0.05;  // mm: neighbouring layers differing more make a critical height
   double similar_loss = 0.03;   // merge a slab where the parts' relative losses differ less
+  int depth = 1;                // levels of cutting: 2 and more cut each part again (Algorithm 1, recursively)
 };
 
 struct SegOptInput {
@@ -39,6 +40,11 @@ struct SegOptInput {
   const Planner& planner;           // any planner that needs only the objective (not ha13)
   double rho = 0.05;                // a slab's ε = ρ · its E(coarse), shared by its parts (split_budget)
   std::uint64_t seed = 1;
+  // A part of an already cut model (recursive SegOpt; the defaults are the whole model): its
+  // region (slab, side, clip, plan and budget: `mesh` and `profile` are the part's, `rho` its
+  // budget over its E(coarse)), and the regions beside it whose layers its own must meet.
+  const PlanRegion* part = nullptr;
+  std::vector<const PlanRegion*> neighbours;
 };
 
 // Estimated printing time (s) of a set of regions printed as one object.
@@ -66,13 +72,14 @@ struct SegOptResult {
 SegOptResult seg_opt(const SegOptInput& input, const RegionTimer& seconds, const SegOptOptions& options = {},
                      const RunContext& run = {});
 
-// Plans the slab [first, last) of `profile` as one region with `planner` to `epsilon` (by default
-// ρ·E(coarse) of the slab); with `neighbour`, its boundaries also keep the seam rule against the neighbour's
-// (the exact planner on the allowed cells when the planner's own plan breaks it). Empty if no
-// plan on the allowed cells reaches ε.
-std::optional<PlanRegion> plan_region(const ZProfile& profile, int first, int last, int side, Polygon clip,
-                                      std::optional<double> epsilon, const SegOptInput& input, const PlanRegion* neighbour,
-                                      const RunContext& run);
+// Plans the region `shape` (its slab, side and clip; its plan is made here) on `profile` with the
+// input's planner to `epsilon` (by default ρ·E(coarse) of the slab); its boundaries also keep the
+// seam rule against every region of `meet` it touches (the exact planner on the allowed cells when
+// the planner's own plan breaks it). With `align`, it keeps to those regions' boundaries where that
+// reaches ε. Empty if no plan on the allowed cells reaches ε.
+std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion shape, std::optional<double> epsilon,
+                                      const SegOptInput& input, const std::vector<const PlanRegion*>& meet,
+                                      const RunContext& run, const std::vector<const PlanRegion*>& align = {});
 
 // The two parts of a slab share its budget ε: the split with the least Σ w_s·n_s such that
 // Σ E_s(n_s) ≤ ε, n_s the layers of part s's best plan (exact) and w_s its weight (surface area,

@@ -44,7 +44,7 @@ nlohmann::json segmentation_json(const core::SliceResult& r) {
   const core::SegOptResult& g = *r.segmentation;
   nlohmann::json regions = nlohmann::json::array();
   for (const core::PlanRegion& region : g.regions)
-    regions.push_back({{"side", region.side}, {"layers", region.layers()}, {"E", region.error}, {"epsilon", region.epsilon}});
+    regions.push_back({{"side", region.side}, {"sub", region.sub}, {"layers", region.layers()}, {"E", region.error}, {"epsilon", region.epsilon}});
   return {{"cut", g.cut},
           {"note", g.note},
           {"whole_seconds", g.whole_seconds},

@@ -3,6 +3,7 @@
 // at its own heights.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <sstream>
@@ -43,13 +44,13 @@ struct Fixture {
   std::unique_ptr<Planner> planner = make_planner("exact");
   RegionSliceSettings settings;
 
-  SegOptResult run(std::vector<float> s, double rho = 0.05) {
+  SegOptResult run(std::vector<float> s, const SegOptOptions& options = {}) {
     saliency = std::move(s);
     profile = std::make_unique<ZProfile>(ZProfile::build(mesh, saliency, params));
-    const SegOptInput in{mesh, saliency, *profile, Metric::area, *planner, rho, 1};
-    return seg_opt(in, [&](const std::vector<PlanRegion>& r) {
-      return region_print_seconds(mesh, *profile, r, settings, printer);
-    });
+    const SegOptInput in{mesh, saliency, *profile, Metric::area, *planner, 0.05, 1, nullptr, {}};
+    return seg_opt(
+        in, [&](const std::vector<PlanRegion>& r) { return region_print_seconds(mesh, *profile, r, settings, printer); },
+        options);
   }
 };
 
@@ -141,7 +142,7 @@ TEST_CASE("the seam rule: touching regions print the same heights or heights at 
   CHECK(check_regions(p, {left, right}).find("closer than") != std::string::npos);
   right.plan = left.plan;
   // seam_allowed marks exactly the cells that keep the rule.
-  const std::vector<char> allowed = seam_allowed(p, 0, m, left);
+  const std::vector<char> allowed = seam_allowed(p, 0, m, {&left});
   for (int k = 0; k <= m; ++k) {
     bool ok = true;
     for (int b : left.plan.boundaries) ok = ok && (k == b || std::abs(k - b) >= a);
@@ -183,4 +184,36 @@ TEST_CASE("the G-code of a segmented plan prints each region at its own heights"
       if (path.role == ExtrusionRole::external_perimeter) thin = std::min(thin, path.height), thick = std::max(thick, path.height);
   CHECK(thin < thick - 0.1);
   CHECK(regions_svg(*f.profile, r.regions, "sphere").find("regions") != std::string::npos);
+}
+
+TEST_CASE("recursively: a part is cut again where that saves time, and the nested regions tile the model") {
+  // An ellipsoid 2.2 times longer in x than wide, salient only in its middle third: the first
+  // cut takes off one plain end, the second (inside the other part) the other end. τ = 0.95:
+  // with the paper's 0.85 one plain end of this size is not worth a seam.
+  Fixture f;
+  const double cx = f.printer.bed_center_x(), half_length = 2.2 * radius;
+  for (Vec3& p : f.mesh.positions) p.x = cx + (p.x - cx) * 2.2;
+  std::vector<float> s(f.mesh.vertex_count());
+  for (std::size_t v = 0; v < s.size(); ++v) s[v] = std::fabs(f.mesh.positions[v].x - cx) < half_length / 3 ? 1.0f : 0.02f;
+  SegOptOptions options;
+  options.tau = 0.95;
+  const SegOptResult once = f.run(s, options);
+  INFO(once.note);
+  REQUIRE(once.cut);
+  options.depth = 2;
+  const SegOptResult twice = f.run(s, options);
+  INFO(twice.note);
+  REQUIRE(twice.cut);
+  CHECK(check_regions(*f.profile, twice.regions) == "");
+  bool nested = false;
+  for (const PlanRegion& r : twice.regions) nested = nested || !r.sub.empty();
+  CHECK(nested);
+  CHECK(twice.seconds < once.seconds);
+  for (const PlanRegion& r : twice.regions) CHECK(r.error <= r.epsilon * (1 + 1e-9) + 1e-12);
+  // The printed heights are still exactly the regions' heights.
+  const auto layers = region_toolpaths(f.mesh, *f.profile, twice.regions, f.settings);
+  const std::vector<double> heights = printed_heights(*f.profile, twice.regions);
+  for (const LayerToolpaths& l : layers)
+    CHECK(std::any_of(heights.begin(), heights.end(), [&](double z) { return std::fabs(z - l.z_top) < 1e-6; }));
+  MESSAGE("recursive: " << once.seconds / 60 << " min at depth 1, " << twice.seconds / 60 << " min at depth 2; " << twice.note);
 }
