@@ -63,7 +63,7 @@ JobSettings parse_job_settings(const std::string& text_in, std::size_t max_depth
   core::PlanOptions& p = c.plan;
   static const std::set<std::string> known = {"printer", "planner", "metric", "saliency", "rho", "layers", "layer_height",
                                               "up", "height", "scale", "min_layer", "max_layer", "grid", "walls",
-                                              "infill", "support", "support_angle", "seed", "segment"};
+                                              "infill", "support", "support_angle", "seed", "segment", "segment_depth"};
   for (const auto& [key, value] : j.items())
     if (!known.count(key)) bad("unknown key '" + key + "'");
   if (j.contains("printer")) s.printer = text(j, "printer");
@@ -86,6 +86,7 @@ JobSettings parse_job_settings(const std::string& text_in, std::size_t max_depth
   if (j.contains("infill")) c.toolpaths.infill_density = number(j, "infill", 0, 1);
   if (j.contains("support")) c.support = flag(j, "support");
   if (j.contains("segment")) p.segment = flag(j, "segment");
+  if (j.contains("segment_depth")) p.segment_depth = static_cast<int>(number(j, "segment_depth", 1, 4));
   if (p.segment && (p.layers || p.layer_height)) bad("'segment' works to a quality target ('rho'), not to a layer count");
   if (p.segment && p.planner == "ha13") bad("'segment' cannot use the ha13 planner (it cuts the whole model's sections)");
   if (j.contains("support_angle")) c.support_settings.angle = number(j, "support_angle", 0, 89);
@@ -101,6 +102,7 @@ JobSettings parse_job_settings(const std::string& text_in, std::size_t max_depth
                 {"infill", c.toolpaths.infill_density}, {"support", c.support}, {"support_angle", c.support_settings.angle}};
   if (p.rho) canon["rho"] = *p.rho;
   if (p.segment) canon["segment"] = true;  // only when asked: older jobs keep their canonical form
+  if (p.segment && p.segment_depth != 1) canon["segment_depth"] = p.segment_depth;
   if (p.layers) canon["layers"] = *p.layers;
   if (p.layer_height) canon["layer_height"] = *p.layer_height;
   if (p.mesh.height) canon["height"] = *p.mesh.height;

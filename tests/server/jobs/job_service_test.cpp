@@ -116,6 +116,9 @@ TEST_CASE("submit refuses bad settings (400), unknown formats (415), unreadable 
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "layers": 5})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "planner": "ha13"})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": "yes"})"); }) == 400);
+  CHECK(parse_job_settings(R"({"segment": true, "segment_depth": 2})").slice.plan.segment_depth == 2);
+  CHECK(parse_job_settings(R"({"segment": true, "segment_depth": 2})").canonical.find("\"segment_depth\":2") != std::string::npos);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "segment_depth": 9})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"rho": 0.1, "layers": 5})"); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"([[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]])"); }) == 400);
   CHECK(status_of([&] { service.submit("notes.txt", "hello, this is not a mesh", ""); }) == 415);
