@@ -6,14 +6,18 @@
 //   finely as possible and 1 where as coarsely; so the 0.03 threshold is on the scale of ρ.
 // - Slabs must each be printable in layers of α..ᾱ: critical heights too close to the previous
 //   one (or to the top) are dropped.
-// - In a slab that keeps the cut, the part with the larger loss (the coarser one) is planned first
-//   and the finer one must meet it (PlanRegion's seam rule): inside a thick layer a thin one keeps
-//   most of its choices, while a thick layer held to a thin one's boundaries loses most of its
-//   own. If it cannot within its ε, the slab is merged instead.
+// - A slab's budget ε is shared by its parts through the exact E(n) curves (split_budget).
+// - In a slab that keeps the cut, one part is planned first and the other must meet it
+//   (PlanRegion's seam rule), with what the first left of ε; both orders are tried and the one
+//   with fewer layers (weighted by area) kept. If neither fits ε, the slab is merged instead.
+// - Recursion (depth > 1): each part of a cut slab is segmented again as a model of its own, its
+//   budget over its E(coarse) as its ρ, its regions meeting every region they touch.
+// - T1 + T2 is the parts printed together (merged by height), as they will be.
 #include "core/segment/seg_opt.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "core/segment/mesh_split.hpp"
 #include "core/slicing/exact_solver.hpp"
