@@ -52,6 +52,10 @@ void add_plan_options(CLI::App& cmd, core::PlanOptions& o, bool& json) {
   cmd.add_option("--segment-depth", o.segment_depth, "With --segment: levels of cutting (2 and more cut each part again)")
       ->capture_default_str()
       ->check(CLI::Range(1, 4));
+  cmd.add_option("--segment-planes", o.segment_planes,
+                 "With --segment: how many of the best planes (by seam cost) to plan and time; the fastest is kept")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 20));
   cmd.add_flag("--json", json, "Print JSON instead of text");
 }
 

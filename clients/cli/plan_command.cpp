@@ -70,6 +70,7 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
   const auto t0 = std::chrono::steady_clock::now();
   core::SegOptOptions options;
   options.depth = o.plan.segment_depth;
+  options.planes = o.plan.segment_planes;
   const core::SegOptResult r = core::segment_model(setup, planner, {}, *printer, {}, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const core::ZProfile& p = *setup.profile;

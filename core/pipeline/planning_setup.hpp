@@ -27,6 +27,7 @@ struct PlanOptions {
   std::uint64_t seed = 1;
   bool segment = false;  // SegOpt (paper §5): cut by a vertical plane where that saves time
   int segment_depth = 1;  // levels of cutting (2+: each part is cut again where that saves time)
+  int segment_planes = 1;  // planes timed, best seam cost first (the paper times only the best)
 };
 
 // Everything a planner needs, built once. Members refer to each other: not copyable.

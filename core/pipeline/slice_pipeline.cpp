@@ -44,6 +44,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   if (plan.segment) {
     SegOptOptions options;
     options.depth = plan.segment_depth;
+    options.planes = plan.segment_planes;
     out.segmentation = segment_model(*setup, *planner, region_settings, printer, run, options);
     regions = out.segmentation->regions;
     double e_coarse = 0;

@@ -46,7 +46,14 @@ struct DirectionResult {
 
 std::optional<SeamCandidate> find_cut(const Mesh& mesh, std::span<const float> saliency, const SeamOptions& o,
                                       const RunContext& run) {
-  if (mesh.triangles.empty() || o.directions < 1 || o.offsets < 1) return std::nullopt;
+  const std::vector<SeamCandidate> best = find_cuts(mesh, saliency, 1, o, run);
+  if (best.empty()) return std::nullopt;
+  return best.front();
+}
+
+std::vector<SeamCandidate> find_cuts(const Mesh& mesh, std::span<const float> saliency, int count, const SeamOptions& o,
+                                     const RunContext& run) {
+  if (mesh.triangles.empty() || o.directions < 1 || o.offsets < 1 || count < 1) return {};
   const std::vector<double> weight = seam_weights(mesh, saliency, o.lambda1);
   float s_max = 0;
   for (float s : saliency) s_max = std::max(s_max, s);
@@ -60,7 +67,7 @@ std::optional<SeamCandidate> find_cut(const Mesh& mesh, std::span<const float> s
     face_s[f] = s_max > 0 ? (saliency[t[0]] + saliency[t[1]] + saliency[t[2]]) / (3.0 * s_max) : 0;
     total_area += area[f];
   }
-  if (!(total_area > 0)) return std::nullopt;
+  if (!(total_area > 0)) return {};
 
   std::vector<DirectionResult> results(o.directions);
   const auto search_direction = [&](int di) {
@@ -136,9 +143,12 @@ std::optional<SeamCandidate> find_cut(const Mesh& mesh, std::span<const float> s
     run.report("segment", 0.3 * first / o.directions);
     tbb::parallel_for(first, std::min(o.directions, first + block), search_direction);
   }
-  std::optional<SeamCandidate> best;
-  for (const DirectionResult& r : results)  // in direction order: the same answer every run
-    if (r.best && (!best || r.best->cost < best->cost)) best = r.best;
+  std::vector<SeamCandidate> best;
+  for (const DirectionResult& r : results)
+    if (r.best) best.push_back(*r.best);
+  // Stable: equal costs keep direction order, so the answer is the same every run.
+  std::stable_sort(best.begin(), best.end(), [](const SeamCandidate& a, const SeamCandidate& b) { return a.cost < b.cost; });
+  if (best.size() > static_cast<std::size_t>(count)) best.resize(count);
   return best;
 }
 

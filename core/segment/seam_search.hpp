@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "core/common/progress.hpp"
 #include "core/mesh/mesh.hpp"
@@ -35,5 +36,10 @@ struct SeamCandidate {
 // nothing). Directions in parallel. Empty if no plane divides the model.
 std::optional<SeamCandidate> find_cut(const Mesh& mesh, std::span<const float> saliency, const SeamOptions& options = {},
                                       const RunContext& run = {});
+
+// The `count` best planes, least f(C) first, the best offset of each direction (so no two are
+// near copies of each other).
+std::vector<SeamCandidate> find_cuts(const Mesh& mesh, std::span<const float> saliency, int count,
+                                     const SeamOptions& options = {}, const RunContext& run = {});
 
 }  // namespace salient::core

@@ -165,30 +165,46 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   out.regions = {*single};
   out.whole_seconds = out.seconds = seconds(out.regions);
 
-  out.seam = find_cut(in.mesh, in.saliency, o.seam, run);
-  if (!out.seam) {
+  const std::vector<SeamCandidate> planes = find_cuts(in.mesh, in.saliency, std::max(1, o.planes), o.seam, run);
+  if (planes.empty()) {
     out.note = "not cut: no vertical plane divides the model into parts of at least " +
                std::to_string(static_cast<int>(100 * o.seam.min_share)) + " % of its surface each";
     return out;
   }
-  // Algorithm 1, line 1–2: both parts, each planned over the whole height.
-  const CutPlane plane = out.seam->plane;
-  const auto parts = split_mesh(in.mesh, in.saliency, plane);
+  // Algorithm 1, line 1–2: both parts, each planned over the whole height (for each plane timed).
   const BoundingBox box = bounding_box(in.mesh);
   const Polygon area = in.part && !in.part->clip.empty() ? in.part->clip
                                                          : rectangle({box.min.x - 5, box.min.y - 5}, {box.max.x + 5, box.max.y + 5});
-  const Polygon clip[2] = {half_plane(plane, 0, area), half_plane(plane, 1, area)};
-  std::vector<ZProfile> profile;
-  for (int s = 0; s < 2; ++s) profile.push_back(ZProfile::build(parts[s].mesh, parts[s].values, whole.params(), run, whole.height()));
-  run.report("segment", 0.4);
-  const auto budget = split_budget(profile[0].window(first_cell, last_cell), profile[1].window(first_cell, last_cell), in.metric,
-                                   single->epsilon, parts[0].area, parts[1].area, run);
-  std::vector<PlanRegion> halves;
-  for (int s = 0; s < 2; ++s) {
-    const auto half = plan_region(profile[s], shape_of(in, first_cell, last_cell, s, clip[s]), budget[s], in, {}, run);
-    halves.push_back(*half);
+  struct Trial {
+    std::array<MeshPart, 2> parts;
+    Polygon clip[2];
+    std::vector<ZProfile> profile;
+    std::vector<PlanRegion> halves;
+    double seconds = 0;
+  };
+  std::optional<Trial> chosen;
+  for (const SeamCandidate& candidate : planes) {
+    Trial t{split_mesh(in.mesh, in.saliency, candidate.plane), {}, {}, {}, 0};
+    for (int s = 0; s < 2; ++s) {
+      t.clip[s] = half_plane(candidate.plane, s, area);
+      t.profile.push_back(ZProfile::build(t.parts[s].mesh, t.parts[s].values, whole.params(), run, whole.height()));
+    }
+    const auto budget = split_budget(t.profile[0].window(first_cell, last_cell), t.profile[1].window(first_cell, last_cell),
+                                     in.metric, single->epsilon, t.parts[0].area, t.parts[1].area, run);
+    for (int s = 0; s < 2; ++s)
+      t.halves.push_back(*plan_region(t.profile[s], shape_of(in, first_cell, last_cell, s, t.clip[s]), budget[s], in, {}, run));
+    t.seconds = seconds(t.halves);  // T1 + T2, printed together as they will be
+    if (!chosen || t.seconds < chosen->seconds) {
+      chosen = std::move(t);
+      out.seam = candidate;
+    }
   }
-  out.parts_seconds = seconds(halves);  // T1 + T2, printed together as they will be
+  run.report("segment", 0.4);
+  const auto& parts = chosen->parts;
+  const auto& clip = chosen->clip;
+  const std::vector<ZProfile>& profile = chosen->profile;
+  const std::vector<PlanRegion>& halves = chosen->halves;
+  out.parts_seconds = chosen->seconds;
   out.parts = halves;
   const double ratio = out.parts_seconds / out.whole_seconds;
   if (!(ratio < o.tau)) {

@@ -30,6 +30,7 @@ struct SegOptOptions {
   double critical_jump = 0.05;  // mm: neighbouring layers differing more make a critical height
   double similar_loss = 0.03;   // merge a slab where the parts' relative losses differ less
   int depth = 1;                // levels of cutting: 2 and more cut each part again (Algorithm 1, recursively)
+  int planes = 1;               // planes whose parts are planned and timed, best f(C) first (the paper: 1)
 };
 
 struct SegOptInput {
@@ -59,7 +60,7 @@ struct Slab {
 struct SegOptResult {
   std::vector<PlanRegion> regions;    // a single whole region when the model is not cut
   bool cut = false;
-  std::optional<SeamCandidate> seam;  // the best plane, whether kept or not
+  std::optional<SeamCandidate> seam;  // the plane chosen (the fastest parts of those timed), whether kept or not
   std::vector<PlanRegion> parts;      // both parts over the full height (T1 + T2), when cut
   std::vector<Slab> slabs;            // the horizontal segmentation, when it was reached
   double whole_seconds = 0;           // T: the whole model with one plan

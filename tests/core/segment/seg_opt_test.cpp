@@ -217,3 +217,21 @@ TEST_CASE("recursively: a part is cut again where that saves time, and the neste
     CHECK(std::any_of(heights.begin(), heights.end(), [&](double z) { return std::fabs(z - l.z_top) < 1e-6; }));
   MESSAGE("recursive: " << once.seconds / 60 << " min at depth 1, " << twice.seconds / 60 << " min at depth 2; " << twice.note);
 }
+
+TEST_CASE("find_cuts: the best planes by seam cost, one per direction, the first is find_cut's") {
+  Fixture f;
+  const std::vector<float> s = halves(f.mesh, f.printer.bed_center_x(), 0.02f);
+  const std::vector<SeamCandidate> five = find_cuts(f.mesh, s, 5);
+  REQUIRE(five.size() == 5);
+  const auto best = find_cut(f.mesh, s);
+  REQUIRE(best);
+  CHECK(five[0].cost == best->cost);
+  CHECK(five[0].plane.offset == best->plane.offset);
+  for (std::size_t i = 1; i < five.size(); ++i) {
+    CHECK(five[i - 1].cost <= five[i].cost);
+    for (std::size_t j = 0; j < i; ++j)  // different directions
+      CHECK(std::fabs(five[i].plane.nx * five[j].plane.nx + five[i].plane.ny * five[j].plane.ny) < 1 - 1e-9);
+    CHECK(five[i].share >= 0.1);
+  }
+  CHECK(find_cuts(f.mesh, s, 0).empty());
+}
