@@ -2,8 +2,10 @@
 // ./var, loopback only. SIGINT/SIGTERM stop it gracefully: no new connections, responses in
 // flight finished, running jobs interrupted and left to be re-queued at the next start.
 #include <signal.h>
+#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <chrono>
 #include <cstdio>
 #include <thread>
@@ -24,12 +26,30 @@ namespace {
 
 using namespace salient::server;
 
+// One log line: outside bytes in it (an error echoing a request, a printer's reply) are cut to a
+// bounded length and control bytes made visible, so no request can flood or forge the log.
 void log_line(const std::string& text) {
+  constexpr std::size_t kMax = 2048;
+  std::string clean;
+  clean.reserve(std::min(text.size(), kMax) + 16);
+  for (std::size_t i = 0; i < text.size() && i < kMax; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    clean += c < 0x20 || c == 0x7f ? '?' : static_cast<char>(c);
+  }
+  if (text.size() > kMax) clean += "… (" + std::to_string(text.size()) + " bytes)";
   const auto now = std::chrono::system_clock::now();
   const std::time_t t = std::chrono::system_clock::to_time_t(now);
   char stamp[32];
   std::strftime(stamp, sizeof stamp, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-  std::fprintf(stderr, "%s %s\n", stamp, text.c_str());
+  std::fprintf(stderr, "%s %s\n", stamp, clean.c_str());
+}
+
+// More descriptors when the hard limit allows: each connection, print and store file takes one.
+void raise_descriptor_limit() {
+  rlimit limit{};
+  if (getrlimit(RLIMIT_NOFILE, &limit) != 0 || limit.rlim_cur >= limit.rlim_max) return;
+  limit.rlim_cur = std::min<rlim_t>(limit.rlim_max, 65536);
+  setrlimit(RLIMIT_NOFILE, &limit);
 }
 
 int serve(const std::string& config_path, const std::string& data, const std::string& listen) {
@@ -46,7 +66,11 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     throw salient::core::InputError("--listen", {}, "'" + config.listen.substr(colon + 1) + "' is not a port");
   }
   http.body_limit = config.max_upload_bytes;
-  http.timeout = std::chrono::seconds(static_cast<long>(config.request_timeout_seconds));
+  http.timeout = std::chrono::seconds(std::max(1L, static_cast<long>(config.request_timeout_seconds)));
+  http.max_connections = static_cast<std::size_t>(config.max_connections);
+  http.max_connections_per_address = static_cast<std::size_t>(config.max_connections_per_address);
+  http.max_bodies_in_flight = config.max_bodies_in_flight_bytes;
+  http.log = log_line;
   Metrics metrics;
   http.on_response = [&metrics](const std::string& method, const std::string& route, int status, double seconds) {
     metrics.http_response(method, route, status, seconds);
@@ -54,13 +78,16 @@ int serve(const std::string& config_path, const std::string& data, const std::st
              " ms=" + std::to_string(static_cast<int>(seconds * 1000)));
   };
 
-  // Signals go to the watcher thread only.
+  // Signals go to the watcher thread only. SIGUSR2 is our own: it wakes the watcher when the
+  // server ends for another reason, and is never logged as a stop request.
   sigset_t signals;
   sigemptyset(&signals);
   sigaddset(&signals, SIGINT);
   sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGUSR2);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  raise_descriptor_limit();
   Store store(config.data_dir);
   const ApiKey key = ensure_api_key(store);
   if (key.created)
@@ -81,6 +108,13 @@ int serve(const std::string& config_path, const std::string& data, const std::st
                   });
   Router router;
   router.set_authenticator([&keys](const HttpRequest& r) { return keys.valid(r); });
+  router.set_exception_mapper([](const std::exception& e, const std::string& route) -> std::optional<HttpResponse> {
+    log_line("http error route=" + route + " " + e.what());
+    if (const auto* s = dynamic_cast<const StoreError*>(&e); s && s->disk_full())
+      return error_response(507, "insufficient_storage",
+                            "the server's disk is full: nothing was stored; try again when space has been freed");
+    return std::nullopt;
+  });
   add_system_routes(router);
   add_job_routes(router, store, jobs, config);
   add_printer_routes(router, printers, store, config);
@@ -94,21 +128,24 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   printers.start();
   log_line("salientd " + std::string(version()) + " listening on http://" + http.address + ":" + std::to_string(port) +
            " data=" + config.data_dir);
+  std::atomic<bool> asked{false};
   std::thread watcher([&] {
     int sig = 0;
     sigwait(&signals, &sig);
+    if (sig == SIGUSR2) return;
+    asked = true;
     log_line(std::string("stopping (") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + ")");
     server.stop();
   });
   server.run();
+  // run() returns after stop(), or (a bug) when nothing is left to serve: never exit silently.
+  if (!asked) log_line("error: the HTTP server stopped serving without being asked to; stopping");
   jobs.stop();
   printers.stop();  // a running print is interrupted (heaters off) and can be resumed
-  if (watcher.joinable()) {
-    pthread_kill(watcher.native_handle(), SIGTERM);  // in case run() ended without a signal
-    watcher.join();
-  }
+  if (!asked) pthread_kill(watcher.native_handle(), SIGUSR2);
+  watcher.join();
   log_line("stopped");
-  return 0;
+  return asked ? 0 : 1;
 }
 
 }  // namespace

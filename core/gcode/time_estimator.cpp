@@ -136,7 +136,9 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
                                                : "not a G-code word in '" + std::string(line.substr(0, 60)) + "'");
     if (!g.letter) {
       if (g.comment.starts_with("LAYER_CHANGE") || g.comment.starts_with("LAYER:")) {
-        if ((saw_layer_mark || out.moves > 0) && out.moves > moves_at_mark) ++layer;
+        // The first mark opens the first layer: moves before it (the start code's homing and prime
+        // line) count with it rather than as a layer of their own.
+        if (saw_layer_mark && out.moves > moves_at_mark) ++layer;
         saw_layer_mark = true;
         moves_at_mark = out.moves;
       }

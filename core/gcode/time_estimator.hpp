@@ -24,7 +24,9 @@ struct GcodeEstimate {
   double filament_mm = 0;         // extruded length of filament (retractions netted out)
   std::size_t moves = 0;
   std::size_t lines = 0;
-  std::vector<double> layer_seconds;  // split at ;LAYER_CHANGE / ;LAYER: comments (one layer if none)
+  // Split at ;LAYER_CHANGE / ;LAYER: comments (one layer if none); what comes before the first
+  // mark (the start code) counts with the first layer.
+  std::vector<double> layer_seconds;
 };
 
 // Throws InputError "SOURCE:LINE: …" for a malformed word (such as "X1.2.3"). Unknown commands

@@ -33,7 +33,7 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   run.report("saliency", 0);
   s->saliency = compute_saliency(s->model.loaded.mesh, *method, name, run);
   run.check();
-  s->profile = std::make_unique<ZProfile>(ZProfile::build(s->model.loaded.mesh, s->saliency, params));
+  s->profile = std::make_unique<ZProfile>(ZProfile::build(s->model.loaded.mesh, s->saliency, params, run));
   s->objective = std::make_unique<Objective>(*s->profile, *metric, false);
   s->geometric = std::make_unique<Objective>(*s->profile, *metric, true);
   s->rho = o.rho.value_or(0.05);

@@ -1,6 +1,8 @@
 // Marlin line framing (Marlin's GCodeQueue: a line starting with N must carry "*<xor>").
 #include "protocol/marlin/line_codec.hpp"
 
+#include <cstdio>
+
 #include <charconv>
 
 namespace salient::protocol::marlin {
@@ -38,6 +40,30 @@ std::string strip_comment(std::string_view line) {
     out.push_back(c);
   }
   return std::string(trim(out));
+}
+
+std::string unsendable(std::string_view command) {
+  if (command.size() > kMaxCommandBytes)
+    return "a command of " + std::to_string(command.size()) + " bytes (the firmware takes " +
+           std::to_string(kMaxCommandBytes) + ")";
+  for (std::size_t i = 0; i < command.size(); ++i) {
+    const unsigned char c = static_cast<unsigned char>(command[i]);
+    if (c == '*') return "a '*' inside a command (it would start the checksum)";
+    if ((c < 0x20 && c != '\t') || c >= 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "0x%02X", c);
+      return std::string("byte ") + hex + " at column " + std::to_string(i + 1) + " (not printable ASCII: is it G-code?)";
+    }
+  }
+  return {};
+}
+
+std::optional<Unsendable> find_unsendable(const std::vector<std::string>& lines) {
+  for (std::size_t i = 0; i < lines.size(); ++i) {
+    const std::string command = strip_comment(lines[i]);
+    if (std::string why = unsendable(command); !why.empty()) return Unsendable{i + 1, std::move(why)};
+  }
+  return std::nullopt;
 }
 
 std::string frame(std::uint64_t number, std::string_view command) {

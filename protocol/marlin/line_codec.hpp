@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
+#include <cstddef>
 
 namespace salient::protocol::marlin {
 
@@ -18,6 +20,21 @@ std::string strip_comment(std::string_view line);
 
 // "N<number> <command>*<checksum>" (no line terminator).
 std::string frame(std::uint64_t number, std::string_view command);
+
+// Marlin keeps a line in MAX_CMD_SIZE (96) bytes with its number and checksum: a longer one is cut,
+// fails its checksum at every resend and stalls the print. 80 leaves room for "N9999999 " and "*255".
+inline constexpr std::size_t kMaxCommandBytes = 80;
+
+// Why `command` (comment stripped) cannot go over the wire: too long, or a byte that is not
+// printable ASCII (NUL, binary, UTF-8), or '*' (it would end the line's checksum). Empty: it can.
+std::string unsendable(std::string_view command);
+
+struct Unsendable {
+  std::size_t line = 0;  // 1-based line of the file
+  std::string why;
+};
+// The first line of a file that cannot be sent, if any.
+std::optional<Unsendable> find_unsendable(const std::vector<std::string>& lines);
 
 struct FramedLine {
   std::optional<std::uint64_t> number;  // absent for an unnumbered command

@@ -10,9 +10,13 @@
 // were taken), treat the requests drawn by the lines that were behind N as repeats (a checksum
 // error is never a repeat: only line N itself can fail its checksum, since the line number is
 // checked first), and give up after max_resends_of_one_line requests for the same line.
-// A silence with lines in flight sends an M105 poke and holds further lines until it is answered.
+// A silence with lines in flight sends an M105 poke and holds further lines until it is answered;
+// the wait adapts to the reply times seen (RFC 6298), pokes back off up to poke_interval, and a
+// printer that says nothing at all for silence_limit after a poke has stopped: the print fails.
 #include "protocol/marlin/marlin_session.hpp"
 
+#include <algorithm>
+#include <iterator>
 #include <utility>
 
 #include "protocol/marlin/line_codec.hpp"
@@ -21,6 +25,22 @@ namespace salient::protocol::marlin {
 namespace {
 
 bool is_m105(const std::string& command) { return command == "M105" || command.rfind("M105 ", 0) == 0; }
+
+std::string_view code_of(std::string_view command) { return command.substr(0, command.find(' ')); }
+
+bool waits_for_heat(std::string_view command) {
+  const std::string_view c = code_of(command);
+  return c == "M109" || c == "M190" || c == "M191";
+}
+
+// Commands whose ok comes when the work is done, which may take seconds to minutes.
+bool is_slow(std::string_view command) {
+  static constexpr std::string_view slow[] = {"G28", "G29", "G30", "G33", "G34", "G35", "G76", "G425", "M48",
+                                              "M109", "M190", "M191", "M303", "M400", "G4", "M600", "M0",
+                                              "M1", "M226", "M116", "M1001"};
+  const std::string_view c = code_of(command);
+  return std::find(std::begin(slow), std::end(slow), c) != std::end(slow);
+}
 
 }  // namespace
 
@@ -40,14 +60,19 @@ void MarlinSession::begin(const std::vector<std::string>& gcode, Millis now, std
     std::string command = strip_comment(line);
     if (!command.empty()) queue_.emplace_back(std::move(command), false);
   }
-  for (const std::string& line : gcode) {
-    std::string command = strip_comment(line);
+  std::string refused;
+  for (std::size_t i = 0; i < gcode.size(); ++i) {
+    std::string command = strip_comment(gcode[i]);
     if (command.empty()) continue;
+    if (std::string why = unsendable(command); !why.empty() && refused.empty())
+      refused = "line " + std::to_string(i + 1) + " cannot be sent: " + why;
     if (total_++ < resume_from) continue;
     queue_.emplace_back(std::move(command), true);
   }
   done_ = std::min(resume_from, total_);
   state_ = SessionState::printing;
+  last_heard_ = now;
+  if (!refused.empty()) return fail(refused);  // checked before anything goes: it would stall mid-print
   pump(now);
 }
 
@@ -69,6 +94,18 @@ void MarlinSession::cancel(const std::vector<std::string>& cleanup, Millis now) 
     if (!command.empty()) queue_.emplace_back(std::move(command), false);
   }
   state_ = SessionState::cancelled;
+  // A heating wait in flight would hold the cleanup (heaters off!) until the target is reached.
+  const bool heating = std::any_of(in_flight_.begin(), in_flight_.end(), [](const InFlight& f) { return f.waits_for_heat; });
+  if (heating && config_.emergency_parser) {
+    output_ += "M108\n";  // Marlin's emergency parser ends the wait at once
+  } else if (heating) {
+    output_ += "M112\n";  // no other way to stop it: the firmware halts, heaters off
+    halted_ = true;
+    fail("cancelled during a heating wait: M112 sent, as the firmware has no EMERGENCY_PARSER to break it; "
+         "reconnect to reset the printer");
+    return;
+  }
+  last_heard_ = std::max(last_heard_, now);  // the cleanup's silence limit counts from the cancel
   pump(now);
 }
 
@@ -85,9 +122,32 @@ void MarlinSession::send_numbered(const std::string& command, bool counts, Milli
   output_ += framed;
   sent_[line] = {command, counts};
   while (sent_.size() > 256) sent_.erase(sent_.begin());  // Marlin only asks for recent lines
-  in_flight_.push_back({line, framed.size(), counts, is_m105(command)});
+  const bool was_empty = in_flight_.empty();
+  in_flight_.push_back(
+      {line, framed.size(), counts, is_m105(command), is_slow(command), waits_for_heat(command), line < resent_below_, now});
   bytes_in_flight_ += framed.size();
-  reply_deadline_ = now + config_.reply_timeout;
+  if (was_empty && !synchronising_) reply_deadline_ = now + timeout_for_front();
+}
+
+Millis MarlinSession::timeout_for_front() const {
+  if (in_flight_.empty()) return Millis::max();
+  if (in_flight_.front().slow) return config_.reply_timeout;
+  // RFC 6298 §2: RTO = SRTT + max(G, 4·RTTVAR); before the first sample, the ceiling, so that
+  // a printer slow from its first line is not poked while it is being learned.
+  if (!have_rtt_) return config_.reply_timeout;
+  const double rto = srtt_ms_ + std::max(10.0, 4 * rttvar_ms_);
+  return std::clamp(Millis(static_cast<long long>(rto)), std::min(config_.min_reply_timeout, config_.reply_timeout),
+                    config_.reply_timeout);
+}
+
+void MarlinSession::sample_reply_time(Millis sample) {
+  const double r = static_cast<double>(sample.count());
+  if (!have_rtt_) {
+    srtt_ms_ = r, rttvar_ms_ = r / 2, have_rtt_ = true;
+    return;
+  }
+  rttvar_ms_ = 0.75 * rttvar_ms_ + 0.25 * std::abs(srtt_ms_ - r);
+  srtt_ms_ = 0.875 * srtt_ms_ + 0.125 * r;
 }
 
 void MarlinSession::pump(Millis now) {
@@ -106,14 +166,14 @@ void MarlinSession::pump(Millis now) {
   }
   if (in_flight_.empty()) {
     reply_deadline_ = Millis::max();
-    if (queue_.empty() && state_ == SessionState::printing && total_ > 0 && done_ == total_) {
+    if (queue_.empty() && state_ == SessionState::printing && done_ == total_) {  // an empty file too
       state_ = SessionState::finished;
       events_.push_back({SessionEvent::Kind::finished, static_cast<long long>(done_), {}, {}});
     }
   }
 }
 
-void MarlinSession::acknowledge(Millis now) {
+void MarlinSession::acknowledge(Millis now, bool sample) {
   if (in_flight_.empty()) return;  // a stray ok: nothing to count
   const InFlight f = in_flight_.front();
   in_flight_.pop_front();
@@ -124,7 +184,12 @@ void MarlinSession::acknowledge(Millis now) {
     ++done_;
     events_.push_back({SessionEvent::Kind::acknowledged, static_cast<long long>(done_), {}, {}});
   }
-  reply_deadline_ = in_flight_.empty() ? Millis::max() : now + config_.reply_timeout;
+  // A reply time sample, unless it says nothing about the link (Karn's rule): a resent line, a
+  // slow command, a poke, or a line settled by a poke's reply (its own ok was lost).
+  const bool poke = f.reports_temperature && !f.counts;
+  if (sample && !f.resent && !f.slow && !poke) sample_reply_time(now - f.sent_at);
+  if (!synchronising_) poke_wait_ = Millis(0);
+  reply_deadline_ = in_flight_.empty() ? Millis::max() : now + timeout_for_front();
 }
 
 void MarlinSession::fail(const std::string& why) {
@@ -151,7 +216,7 @@ void MarlinSession::handle_ok(const MarlinReply& r, Millis now) {
       through = f.line;
       if (!synchronising_) break;
     }
-    while (!in_flight_.empty() && in_flight_.front().line <= through) acknowledge(now);
+    while (!in_flight_.empty() && in_flight_.front().line <= through) acknowledge(now, false);
   } else if (resend_oks_due_ > 0) {
     seen_ok_after_resend_ = true;
     if (--resend_oks_due_ == 0) resend_ok_deadline_ = Millis::max();
@@ -201,6 +266,7 @@ void MarlinSession::handle_resend(long long line, Millis now) {
   sent_.erase(it, sent_.end());
   queue_.insert(queue_.begin(), again.begin(), again.end());
   next_line_ = line;
+  resent_below_ = line + static_cast<long long>(again.size());
 }
 
 void MarlinSession::handle(const MarlinReply& r, Millis now) {
@@ -213,7 +279,7 @@ void MarlinSession::handle(const MarlinReply& r, Millis now) {
       handle_resend(*r.line, now);
       break;
     case ReplyKind::busy:
-      if (!in_flight_.empty()) reply_deadline_ = now + config_.busy_timeout;
+      if (!in_flight_.empty()) reply_deadline_ = std::max(reply_deadline_, now + config_.busy_timeout);
       break;
     case ReplyKind::start:
       if (state_ == SessionState::printing || state_ == SessionState::paused) {
@@ -228,6 +294,9 @@ void MarlinSession::handle(const MarlinReply& r, Millis now) {
       break;
     case ReplyKind::temperature:
       events_.push_back({K::temperatures, 0, {}, r.temperatures});
+      // Marlin reports each second while it waits for a temperature: it is working, not lost.
+      if (!in_flight_.empty() && in_flight_.front().waits_for_heat)
+        reply_deadline_ = std::max(reply_deadline_, now + config_.busy_timeout);
       break;
     case ReplyKind::firmware:
       events_.push_back({K::firmware, 0, r.name, {}});
@@ -246,6 +315,7 @@ void MarlinSession::handle(const MarlinReply& r, Millis now) {
 }
 
 void MarlinSession::on_receive(std::string_view bytes, Millis now) {
+  if (!bytes.empty()) last_heard_ = std::max(last_heard_, now);
   partial_.append(bytes);
   std::size_t start = 0;
   for (std::size_t nl = partial_.find('\n'); nl != std::string::npos; nl = partial_.find('\n', start)) {
@@ -266,12 +336,28 @@ void MarlinSession::on_tick(Millis now) {
       expect_ok_after_resend_ = false;
     pump(now);
   }
-  if (now < reply_deadline_ || in_flight_.empty()) return;
+  check_silence(now);
+  if (state_ == SessionState::failed || now < reply_deadline_ || in_flight_.empty()) return;
   events_.push_back({SessionEvent::Kind::timeout, in_flight_.front().line, "no reply from the printer", {}});
+  // The next poke waits twice as long (RFC 6298 §5.5), at most poke_interval.
+  poke_wait_ = poke_wait_.count() == 0 ? timeout_for_front() : std::min(2 * poke_wait_, config_.poke_interval);
+  poke_wait_ = std::max(poke_wait_, Millis(1));  // never a busy loop
   synchronising_ = true;
   repeats_expected_ = 0;
   ++pokes_;
   send_numbered("M105", false, now);
+  reply_deadline_ = now + std::min(2 * poke_wait_, std::max(poke_wait_, config_.poke_interval));
+}
+
+void MarlinSession::check_silence(Millis now) {
+  if (!synchronising_ || in_flight_.empty()) return;
+  Millis limit = config_.silence_limit;
+  if (state_ == SessionState::cancelled) limit = std::min(limit, config_.cancel_silence_limit);
+  else if (in_flight_.front().slow) limit += config_.reply_timeout;
+  if (now - last_heard_ < limit) return;
+  const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(now - last_heard_).count();
+  fail("the printer stopped answering after line " + std::to_string(done_) + ": nothing heard for " +
+       std::to_string(seconds) + " s, " + std::to_string(pokes_) + " M105 pokes unanswered");
 }
 
 std::string MarlinSession::take_output() { return std::exchange(output_, {}); }

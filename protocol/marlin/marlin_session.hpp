@@ -23,8 +23,23 @@ using Millis = std::chrono::milliseconds;  // time since any fixed epoch, from t
 enum class SessionState { idle, printing, paused, finished, failed, cancelled };
 
 struct SessionConfig {
-  Millis reply_timeout{10000};  // nothing heard for this long with lines in flight: poke with M105
-  Millis busy_timeout{60000};   // after "busy:", wait this long before poking
+  // Silence with lines in flight is met with an M105 poke. The wait before it adapts to the
+  // replies seen, as TCP's retransmission timer does (RFC 6298: srtt + 4·rttvar), within
+  // [min_reply_timeout, reply_timeout], so a lost ok costs a fraction of a second on a quick link
+  // and a slow printer is not poked; a command slow by nature (homing, heating, dwell, M400)
+  // waits reply_timeout.
+  Millis reply_timeout{10000};
+  Millis min_reply_timeout{250};
+  Millis busy_timeout{10000};  // after "busy:" or a heating report, wait this long before poking
+  Millis poke_interval{2000};  // the longest wait between pokes while none is answered
+  // A poke out and nothing at all heard for this long: the printer stopped answering, and the
+  // print fails (resumable from what was confirmed). Slow commands get reply_timeout more; a
+  // cancel, whose only job left is to turn the heaters off, cancel_silence_limit.
+  Millis silence_limit{10000};
+  Millis cancel_silence_limit{3000};
+  // The firmware acts on M108 and M112 as they arrive (M115's Cap:EMERGENCY_PARSER): a cancel
+  // breaks a heating wait with M108. Without it, a cancel during a wait sends M112.
+  bool emergency_parser = false;
   int max_resends_of_one_line = 5;
   std::size_t rx_buffer_bytes = 128;  // the firmware's serial receive buffer (Marlin RX_BUFFER_SIZE)
   // Marlin follows "Resend: N" with "ok"; some versions do not. `detect` starts by expecting the
@@ -56,6 +71,8 @@ class MarlinSession {
   void cancel(const std::vector<std::string>& cleanup, Millis now);
   // M112 at once, unnumbered (EMERGENCY_PARSER firmware acts on it even with a full queue).
   void emergency_stop();
+  // True after a cancel had to halt the firmware (M112): it must be reset (reconnected).
+  bool halted() const { return halted_; }
 
   void on_receive(std::string_view bytes, Millis now);
   void on_tick(Millis now);
@@ -76,16 +93,23 @@ class MarlinSession {
   struct InFlight {
     long long line;
     std::size_t bytes;
-    bool counts;            // a print command (not M110 or a poke)
+    bool counts;               // a print command (not M110 or a poke)
     bool reports_temperature;  // M105: its reply is "ok T:…", without ADVANCED_OK's N
+    bool slow;                 // homing, heating, dwell…: its ok may take minutes
+    bool waits_for_heat;       // M109/M190/M191: a cancel must break the wait
+    bool resent;               // sent again: its reply time says nothing about the link (Karn)
+    Millis sent_at;
   };
   void handle(const MarlinReply& reply, Millis now);
   void handle_ok(const MarlinReply& reply, Millis now);
   void handle_resend(long long line, Millis now);
-  void acknowledge(Millis now);
+  void acknowledge(Millis now, bool sample = true);
   void pump(Millis now);
   void send_numbered(const std::string& command, bool counts, Millis now);
   void fail(const std::string& why);
+  Millis timeout_for_front() const;  // how long the oldest line in flight may go unanswered
+  void sample_reply_time(Millis sample);
+  void check_silence(Millis now);
 
   SessionConfig config_;
   SessionState state_ = SessionState::idle;
@@ -107,6 +131,12 @@ class MarlinSession {
   bool synchronising_ = false;
   std::size_t done_ = 0, total_ = 0, pokes_ = 0, resent_ = 0;
   Millis reply_deadline_{Millis::max()}, resend_ok_deadline_{Millis::max()};
+  // Reply-time estimate (RFC 6298), and the poke schedule.
+  bool have_rtt_ = false;
+  double srtt_ms_ = 0, rttvar_ms_ = 0;
+  Millis poke_wait_{0}, last_heard_{0};
+  bool halted_ = false;
+  long long resent_below_ = -1;  // lines numbered below this, sent after a rewind, are resends
   std::string partial_, output_;
   std::vector<SessionEvent> events_;
 };

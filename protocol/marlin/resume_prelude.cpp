@@ -20,6 +20,8 @@ std::optional<double> word(std::string_view c, char letter) {
   return std::nullopt;
 }
 
+constexpr double kPrimeMm = 1.0;  // filament re-primed before going on
+
 std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.5g", v);
@@ -76,11 +78,15 @@ std::vector<std::string> resume_prelude(const std::vector<std::string>& gcode, s
   out.push_back(inches ? "G20" : "G21");
   out.push_back("G90");
   out.push_back(relative_e ? "M83" : "M82");
-  out.push_back("G92 E" + num(pos[3]));
   out.push_back(fan > 0 ? "M106 S" + num(fan) : "M107");
   // Over the part first, then down onto it: never through it.
   out.push_back("G1 Z" + num(pos[2] + 1) + " F600");
   out.push_back("G1 X" + num(pos[0]) + " Y" + num(pos[1]) + " F6000");
+  // Re-prime what oozed while the nozzle heated again, as the start code's prime line does, just
+  // above where the print goes on; then the extruder counts from where the file left it.
+  out.push_back("G92 E0");
+  out.push_back("G1 E" + num(kPrimeMm) + " F300");
+  out.push_back("G92 E" + num(pos[3]));
   out.push_back("G1 Z" + num(pos[2]) + " F600");
   if (feed > 0) out.push_back("G1 F" + num(feed));
   if (relative) out.push_back("G91");

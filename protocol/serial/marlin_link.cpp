@@ -43,6 +43,7 @@ FirmwareInfo MarlinLink::handshake() {
       if (r.kind == marlin::ReplyKind::capability && r.name == "EMERGENCY_PARSER") firmware_.emergency_parser = r.enabled;
       if (r.kind == marlin::ReplyKind::capability && r.name == "AUTOREPORT_TEMP") firmware_.autoreport_temperature = r.enabled;
     }
+    config_.session.emergency_parser = firmware_.emergency_parser;
     if (firmware_.autoreport_temperature && config_.autoreport_seconds > 0)
       exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout);
     return firmware_;
@@ -93,17 +94,29 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
     result.lines_resent = session.lines_resent();
     result.pokes = session.pokes_sent();
     result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+    result.halted = session.halted();
     return result;
   };
+  // A daemon that stops gives the printer this long to take the heaters-off lines, then goes.
+  Millis give_up = Millis::max();
   try {
     for (;;) {
       switch (request_.exchange(kNone)) {
         case kPause: session.pause(); break;
         case kResume: session.resume(now()); break;
         case kCancel: session.cancel(config_.cancel_gcode, now()); break;
-        case kInterrupt: session.cancel({"M104 S0", "M140 S0", "M107"}, now()); break;
+        case kInterrupt:
+          session.cancel({"M104 S0", "M140 S0", "M107"}, now());
+          give_up = now() + config_.interrupt_wait;
+          break;
         case kEmergency: session.emergency_stop(); break;
         default: break;
+      }
+      if (now() >= give_up) {
+        if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
+        result.reason = "the printer did not confirm the heaters off within " +
+                        std::to_string(config_.interrupt_wait.count()) + " ms";
+        return finish();
       }
       if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
       for (const marlin::SessionEvent& e : session.take_events()) {

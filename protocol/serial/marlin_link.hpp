@@ -22,6 +22,7 @@ struct LinkConfig {
   int autoreport_seconds = 2;  // M155 S<n> when the firmware has AUTOREPORT_TEMP; 0: never
   // Sent after a cancel: heaters and fan off, lift, motors off.
   std::vector<std::string> cancel_gcode = {"M104 S0", "M140 S0", "M107", "G91", "G1 Z5 F600", "G90", "M84"};
+  std::chrono::milliseconds interrupt_wait{2000};  // interrupt(): the longest wait for its heaters-off lines
 };
 
 struct FirmwareInfo {
@@ -34,6 +35,7 @@ struct PrintResult {
   bool disconnected = false;  // the link dropped: `confirmed` is where to resume from
   std::size_t confirmed = 0, total = 0;
   std::string reason;          // why it stopped, when it did not finish
+  bool halted = false;         // a cancel had to send M112: the firmware must be reset
   std::size_t lines_resent = 0, pokes = 0;
   double seconds = 0;
 };

@@ -1,6 +1,7 @@
 #include "protocol/sim/pseudo_terminal.hpp"
 
 #include <fcntl.h>
+#include <sys/inotify.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -11,7 +12,9 @@
 namespace salient::protocol::sim {
 namespace {
 
-[[noreturn]] void fail(const char* what) { throw std::system_error(errno, std::generic_category(), what); }
+[[noreturn]] void fail(const char* what) {
+  throw std::system_error(errno, std::generic_category(), what);
+}
 
 }  // namespace
 
@@ -30,7 +33,9 @@ PseudoTerminal::PseudoTerminal() {
   if (::tcsetattr(slave_, TCSANOW, &t) != 0) fail("tcsetattr");
 }
 
-PseudoTerminal::~PseudoTerminal() { close(); }
+PseudoTerminal::~PseudoTerminal() {
+  close();
+}
 
 std::string PseudoTerminal::read_available() {
   std::string out;
@@ -64,10 +69,39 @@ std::size_t PseudoTerminal::write_some(std::string_view bytes) {
   return done;
 }
 
+void PseudoTerminal::discard_output() {
+  // Our end writes to the master; what the host has yet to read waits on the slave side.
+  if (::tcflush(slave_, TCIFLUSH) != 0) fail("tcflush pseudo-terminal");
+}
+
+void PseudoTerminal::watch_opens() {
+  watch_ = ::inotify_init1(IN_NONBLOCK | IN_CLOEXEC);
+  if (watch_ < 0) fail("inotify_init1");
+  // Our own descriptor on the slave was opened before this: only the host's opens count.
+  if (::inotify_add_watch(watch_, path_.c_str(), IN_OPEN) < 0)
+    fail("inotify_add_watch on the pseudo-terminal");
+}
+
+int PseudoTerminal::take_opens() {
+  int opens = 0;
+  alignas(inotify_event) char buf[4096];
+  for (;;) {
+    const ssize_t n = ::read(watch_, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return opens;  // EAGAIN: none left
+    for (ssize_t at = 0; at < n;) {
+      const auto* e = reinterpret_cast<const inotify_event*>(buf + at);
+      if (e->mask & IN_OPEN) ++opens;
+      at += static_cast<ssize_t>(sizeof(inotify_event) + e->len);
+    }
+  }
+}
+
 void PseudoTerminal::close() {
+  if (watch_ >= 0) ::close(watch_);
   if (slave_ >= 0) ::close(slave_);
   if (master_ >= 0) ::close(master_);
-  slave_ = master_ = -1;
+  watch_ = slave_ = master_ = -1;
 }
 
 }  // namespace salient::protocol::sim

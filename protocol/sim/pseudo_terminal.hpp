@@ -1,6 +1,7 @@
 // PseudoTerminal: the printer's end of a pseudo-terminal. Hosts open device_path() as they would
 // open /dev/ttyACM0. We keep a descriptor on that end too, raw, so that the link survives a host
 // closing and reopening it; close() pulls the cable: the host's reads fail at once.
+// A pseudo-terminal has no DTR line, so watch_opens() tells the host's opens by inotify instead.
 #pragma once
 
 #include <string>
@@ -21,10 +22,16 @@ class PseudoTerminal {
   std::string read_available();
   // Writes what it can without blocking; returns how many bytes went.
   std::size_t write_some(std::string_view bytes);
+  // Drops what we wrote that the host has not read yet; throws std::system_error.
+  void discard_output();
+  // From now on, counts the host's opens of the device; throws std::system_error.
+  void watch_opens();
+  int watch_descriptor() const { return watch_; }  // readable when the host opened it; -1: not watching
+  int take_opens();                                // opens since the last call
   void close();
 
  private:
-  int master_ = -1, slave_ = -1;
+  int master_ = -1, slave_ = -1, watch_ = -1;
   std::string path_;
 };
 

@@ -14,8 +14,20 @@ namespace {
 
 constexpr double kKeepaliveSeconds = 2;  // Marlin's DEFAULT_KEEPALIVE_INTERVAL
 constexpr double kHomingSeconds = 4;
+constexpr Micros kBusyEvery{2000000};  // busy-for's keepalive: the same 2 s, in wall time
 
-std::string_view first_word(std::string_view c) { return c.substr(0, c.find(' ')); }
+Micros wall(double seconds) {
+  return Micros(static_cast<long long>(std::llround(seconds * 1e6)));
+}
+
+std::string_view first_word(std::string_view c) {
+  return c.substr(0, c.find(' '));
+}
+
+// The commands that make Marlin wait, and so send busy keepalives.
+bool waits(std::string_view code) {
+  return code == "G4" || code == "G28" || code == "M400" || code == "M109" || code == "M190";
+}
 
 std::optional<double> param(std::string_view c, char letter) {
   for (std::size_t at = c.find(' '); at != std::string_view::npos; at = c.find(' ', at + 1)) {
@@ -46,7 +58,9 @@ SimFirmware::SimFirmware(SimConfig config)
   bed_.rate = config_.bed_rate;
 }
 
-double SimFirmware::heat_scale() const { return config_.heat_time_scale < 0 ? config_.time_scale : config_.heat_time_scale; }
+double SimFirmware::heat_scale() const {
+  return config_.heat_time_scale < 0 ? config_.time_scale : config_.heat_time_scale;
+}
 
 Micros SimFirmware::scaled(double printer_seconds, double scale) const {
   return Micros(static_cast<long long>(std::llround(printer_seconds * scale * 1e6)));
@@ -65,17 +79,28 @@ void SimFirmware::boot(Micros now) {
 }
 
 void SimFirmware::ok(const Command& c, Micros now) {
+  std::string l = "ok";
+  if (config_.advanced_ok) {
+    if (c.number) l += " N" + std::to_string(*c.number);
+    l += " P" + std::to_string(config_.planner_blocks - planner_.size());
+    l += " B" + std::to_string(config_.bufsize - queue_.size());  // the current command still holds its slot
+  }
+  send_ok(std::move(l), stats_.executed, now);
+}
+
+// Every ok goes out here, so that the faults on oks apply to all alike. `command`: the one it
+// answers; 0 for the ok after a Resend, which answers none.
+void SimFirmware::send_ok(std::string line, long long command, Micros now) {
   std::bernoulli_distribution drop(config_.faults.drop_ok);
   if (config_.faults.drop_ok > 0 && drop(rng_)) {
     ++stats_.oks_dropped;
     return;
   }
-  if (!config_.advanced_ok) return say("ok", now);
-  std::string l = "ok";
-  if (c.number) l += " N" + std::to_string(*c.number);
-  l += " P" + std::to_string(config_.planner_blocks - planner_.size());
-  l += " B" + std::to_string(config_.bufsize - queue_.size());  // the current command still holds its slot
-  say(l, now);
+  if (command != 0 && command == config_.faults.malformed_ok) {
+    line[1] = '\0';  // a framing error reads as a zero byte on most UARTs
+    ++stats_.oks_malformed;
+  }
+  say(line, now);
 }
 
 void SimFirmware::receive(std::string_view bytes, Micros now) {
@@ -93,25 +118,40 @@ void SimFirmware::scan_emergency(std::string_view line, Micros now) {
   }
   c = c.substr(0, c.find('*'));
   while (!c.empty() && (c.back() == ' ' || c.back() == '\r')) c.remove_suffix(1);
-  if (c == "M112") kill("Printer halted. kill() called!", now);
-  else if (c == "M108") abort_wait_ = true;
-  else if (c == "M410") planner_.clear();
+  if (c == "M112")
+    kill("Printer halted. kill() called!", now);
+  else if (c == "M108")
+    abort_wait_ = true;
+  else if (c == "M410")
+    planner_.clear();
 }
 
 void SimFirmware::line_error(std::string_view what, Micros now) {
   ++stats_.lines_rejected;
   say("Error:" + std::string(what) + ", Last Line: " + std::to_string(last_n_), now);
-  // Marlin's flush_and_request_resend: the receive buffer is emptied, and so is the rest of a
-  // line that was half in it (modelled: Marlin would take that tail for a command of its own).
+  request_resend(now);
+}
+
+// Marlin's flush_and_request_resend: the receive buffer is emptied, and so is the rest of a
+// line that was half in it (modelled: Marlin would take that tail for a command of its own).
+void SimFirmware::request_resend(Micros now) {
   const std::size_t nl = rx_.find_last_of('\n');
   flushing_ = nl == std::string::npos ? !rx_.empty() : nl + 1 < rx_.size();
   rx_.clear();
   say("Resend: " + std::to_string(last_n_ + 1), now);
-  if (!config_.faults.resend_without_ok) {
-    std::bernoulli_distribution drop(config_.faults.drop_ok);
-    if (config_.faults.drop_ok > 0 && drop(rng_)) ++stats_.oks_dropped;
-    else say("ok", now);
-  }
+  if (!config_.faults.resend_without_ok) send_ok("ok", 0, now);
+}
+
+// rerequest: a line that passed every check is refused all the same, once. Only a numbered line
+// can be asked for again, so it is the first from command N on (N counts what is queued too).
+bool SimFirmware::rerequested(Micros now) {
+  const long long at = config_.faults.rerequest;
+  const long long command = stats_.executed + static_cast<long long>(queue_.size()) + 1;
+  if (!at || rerequest_done_ || command < at) return false;
+  rerequest_done_ = true;
+  ++stats_.lines_rerequested;
+  request_resend(now);
+  return true;
 }
 
 void SimFirmware::read_commands(Micros now) {
@@ -125,13 +165,15 @@ void SimFirmware::read_commands(Micros now) {
       continue;
     }
     ++stats_.lines_received;
-    if (config_.faults.noise > 0 && line.size() > 1 && std::bernoulli_distribution(config_.faults.noise)(rng_)) {
+    if (config_.faults.noise > 0 && line.size() > 1 &&
+        std::bernoulli_distribution(config_.faults.noise)(rng_)) {
       // One byte changes, never the leading N: an unnumbered line is accepted unchecked, so no
       // host could notice that, and never into a line end or a comment.
       static constexpr std::string_view alphabet = "0123456789GMXYZEF ";
       const std::size_t at = std::uniform_int_distribution<std::size_t>(1, line.size() - 1)(rng_);
       char c = line[at];
-      while (c == line[at]) c = alphabet[std::uniform_int_distribution<std::size_t>(0, alphabet.size() - 1)(rng_)];
+      while (c == line[at])
+        c = alphabet[std::uniform_int_distribution<std::size_t>(0, alphabet.size() - 1)(rng_)];
       line[at] = c;
       ++stats_.lines_corrupted;
     }
@@ -145,8 +187,8 @@ void SimFirmware::read_commands(Micros now) {
       long long n = 0;
       std::from_chars(s.data() + 1, s.data() + s.size(), n);
       if (m110) {  // "N5 M110 N0": the counter comes from M110's own N
-        const std::size_t m = s.find("M110");
-        if (auto n2 = param(s.substr(m, s.find('*') == std::string_view::npos ? std::string_view::npos : s.find('*') - m), 'N'))
+        const std::size_t m = s.find("M110"), star = s.find('*');
+        if (auto n2 = param(s.substr(m, star == std::string_view::npos ? star : star - m), 'N'))
           n = static_cast<long long>(*n2);
       }
       if (n != last_n_ + 1 && !m110) return line_error("Line Number is not Last Line Number+1", now);
@@ -155,6 +197,7 @@ void SimFirmware::read_commands(Micros now) {
       int sum = -1;
       std::from_chars(s.data() + star + 1, s.data() + s.size(), sum);
       if (sum != marlin::checksum(s.substr(0, star))) return line_error("checksum mismatch", now);
+      if (!m110 && rerequested(now)) return;  // M110 sets the counter: there is no line to ask for
       last_n_ = n;
       cmd.number = n;
       const std::size_t sp = s.find(' ');
@@ -177,7 +220,8 @@ void SimFirmware::update_heaters(Micros now) {
       continue;
     }
     const double step = h->rate * dt / scale;
-    h->temperature = h->temperature < goal ? std::min(goal, h->temperature + step) : std::max(goal, h->temperature - step / 2);
+    h->temperature = h->temperature < goal ? std::min(goal, h->temperature + step)
+                                           : std::max(goal, h->temperature - step / 2);
   }
 }
 
@@ -206,7 +250,8 @@ bool SimFirmware::move(const Command& c, Micros now) {
   if (d == 0) d = std::abs(delta[3]);
   if (config_.time_scale <= 0 || d == 0) return true;
   const Micros start = std::max(now, planner_free_at_);
-  planner_free_at_ = start + scaled(trapezoid_seconds(d, feed_mm_s_, config_.acceleration), config_.time_scale);
+  planner_free_at_ =
+      start + scaled(trapezoid_seconds(d, feed_mm_s_, config_.acceleration), config_.time_scale);
   planner_.push_back(planner_free_at_);
   return true;
 }
@@ -216,7 +261,8 @@ SimFirmware::Outcome SimFirmware::execute(const Command& c, Micros now) {
   const std::string_view code = first_word(c.text);
   const bool first = !head_started_;
   head_started_ = true;
-  if (code == "G0" || code == "G1" || code == "G2" || code == "G3") return move(c, now) ? O::done : O::blocked;
+  if (code == "G0" || code == "G1" || code == "G2" || code == "G3")
+    return move(c, now) ? O::done : O::blocked;
   if (code == "G28" || code == "G4" || code == "M400") {
     if (!planner_.empty()) return O::blocked;  // these wait for every move to finish
     if (first || head_until_ == Micros{0}) {
@@ -250,9 +296,7 @@ SimFirmware::Outcome SimFirmware::execute(const Command& c, Micros now) {
   }
   if (code == "M105") {
     // Its reply is the ok ("ok T:…"), without ADVANCED_OK's fields; dropped like any ok.
-    std::bernoulli_distribution drop(config_.faults.drop_ok);
-    if (config_.faults.drop_ok > 0 && drop(rng_)) ++stats_.oks_dropped;
-    else say("ok " + temperature_report(), now);
+    send_ok("ok " + temperature_report(), stats_.executed + 1, now);
     return O::replied;
   }
   if (code == "M155") {
@@ -266,8 +310,10 @@ SimFirmware::Outcome SimFirmware::execute(const Command& c, Micros now) {
     return O::done;
   }
   if (code == "M115") {
-    say("FIRMWARE_NAME:Marlin 2.1.2 (salient-sim) SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin PROTOCOL_VERSION:1.0 "
-        "MACHINE_TYPE:salient-sim EXTRUDER_COUNT:1 UUID:00000000-0000-0000-0000-000000000000", now);
+    say("FIRMWARE_NAME:Marlin 2.1.2 (salient-sim) SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin "
+        "PROTOCOL_VERSION:1.0 MACHINE_TYPE:salient-sim EXTRUDER_COUNT:1 "
+        "UUID:00000000-0000-0000-0000-000000000000",
+        now);
     say(std::string("Cap:AUTOREPORT_TEMP:") + (config_.autoreport ? "1" : "0"), now);
     say(std::string("Cap:EMERGENCY_PARSER:") + (config_.emergency_parser ? "1" : "0"), now);
     say("Cap:EEPROM:0", now);
@@ -278,10 +324,14 @@ SimFirmware::Outcome SimFirmware::execute(const Command& c, Micros now) {
     if (auto a = param(c.text, 'P').value_or(param(c.text, 'S').value_or(0)); a > 0) config_.acceleration = a;
     return O::done;
   }
-  if (code == "G90") relative_ = false;
-  else if (code == "G91") relative_ = true;
-  else if (code == "M82") relative_e_ = false;
-  else if (code == "M83") relative_e_ = true;
+  if (code == "G90")
+    relative_ = false;
+  else if (code == "G91")
+    relative_ = true;
+  else if (code == "M82")
+    relative_e_ = false;
+  else if (code == "M83")
+    relative_e_ = true;
   else if (code == "G92") {
     static constexpr char axes[4] = {'X', 'Y', 'Z', 'E'};
     for (int i = 0; i < 4; ++i)
@@ -301,17 +351,65 @@ void SimFirmware::kill(std::string_view why, Micros now) {
   hotend_.target = bed_.target = 0;
 }
 
-void SimFirmware::reset(Micros now) {
+// A reboot: what the board held is gone, and so are its timers. Our counters and log stay.
+void SimFirmware::clear(Micros now) {
+  state_ = State::running;
   rx_.clear();
+  incoming_.clear();
+  flushing_ = false;
   queue_.clear();
   planner_.clear();
   planner_free_at_ = now;
   last_n_ = 0;
   hotend_.target = bed_.target = 0;
-  head_started_ = heating_wait_ = false;
+  head_started_ = heating_wait_ = abort_wait_ = false;
+  head_until_ = hold_until_ = Micros{0};
+  next_busy_ = next_heat_report_ = Micros::max();
   autoreport_every_ = Micros{0};
   next_autoreport_ = Micros::max();
+}
+
+void SimFirmware::reset(Micros now) {
+  clear(now);
   boot(now);
+}
+
+void SimFirmware::port_opened(Micros now) {
+  if (!config_.faults.reset_on_open || state_ == State::disconnected) return;
+  // What was on its way either side dies with the board (the bootloader, then the sketch).
+  in_.clear();
+  out_.clear();
+  clear(now);
+  state_ = State::booting;
+  deaf_until_ = now + wall(config_.faults.boot_for);
+  wake(now);  // boot-for=0: at once
+}
+
+// silent-for or boot-for is up: what reached the board until then was lost.
+void SimFirmware::wake(Micros now) {
+  if (!deaf() || now < deaf_until_) return;
+  stats_.bytes_ignored += static_cast<long long>(in_.pop(deaf_until_).size());
+  const bool booted = state_ == State::booting;
+  state_ = State::running;
+  if (booted) boot(now);
+}
+
+// busy-for: the command is held before it runs, as a long one would be, with keepalives: a host
+// must tell a printer that is busy from one that went silent.
+bool SimFirmware::held(Micros now) {
+  const SimFaults& f = config_.faults;
+  if (hold_until_ == Micros{0}) {
+    if (f.busy_for <= 0 || busy_done_) return false;
+    const long long command = stats_.executed + 1;
+    if (f.busy_at ? command != f.busy_at : !waits(first_word(queue_.front().text))) return false;
+    busy_done_ = true;
+    hold_until_ = now + wall(f.busy_for);
+    next_busy_ = now + kBusyEvery;
+  }
+  if (now < hold_until_) return true;
+  hold_until_ = Micros{0};
+  next_busy_ = Micros::max();  // the command's own wait, if any, keeps its own time
+  return false;
 }
 
 void SimFirmware::after_executed(Outcome outcome, Micros now) {
@@ -329,6 +427,10 @@ void SimFirmware::after_executed(Outcome outcome, Micros now) {
   head_started_ = false;
   head_until_ = Micros{0};
   next_busy_ = Micros::max();
+  if (f.silent_after && stats_.executed == f.silent_after) {
+    state_ = State::silent;  // after its ok: the host has every command it ran confirmed
+    deaf_until_ = f.silent_for > 0 ? now + wall(f.silent_for) : Micros::max();
+  }
   if (f.disconnect_after && stats_.executed == f.disconnect_after) state_ = State::disconnected;
 }
 
@@ -339,7 +441,7 @@ void SimFirmware::keepalive(Micros now) {
   }
   if (next_busy_ != Micros::max() && now >= next_busy_) {
     say("echo:busy: processing", now);
-    next_busy_ = now + std::max(Micros(1000), scaled(kKeepaliveSeconds, heating_wait_ ? heat_scale() : config_.time_scale));
+    next_busy_ = now + busy_every();
   }
   if (now >= next_autoreport_) {
     say(temperature_report(), now);
@@ -347,8 +449,18 @@ void SimFirmware::keepalive(Micros now) {
   }
 }
 
+Micros SimFirmware::busy_every() const {
+  if (hold_until_ != Micros{0}) return kBusyEvery;
+  return std::max(Micros(1000), scaled(kKeepaliveSeconds, heating_wait_ ? heat_scale() : config_.time_scale));
+}
+
 void SimFirmware::advance(Micros now) {
   if (state_ == State::disconnected) return;
+  wake(now);
+  if (deaf()) {
+    stats_.bytes_ignored += static_cast<long long>(in_.pop(now).size());
+    return;
+  }
   const std::string arrived = in_.pop(now);
   for (char ch : arrived) {
     if (ch == '\n' || ch == '\r') {
@@ -359,8 +471,10 @@ void SimFirmware::advance(Micros now) {
       incoming_ += ch;
     }
     if (state_ != State::running) continue;
-    if (rx_.size() < config_.rx_buffer_bytes) rx_ += ch;
-    else ++stats_.rx_overflow_bytes;
+    if (rx_.size() < config_.rx_buffer_bytes)
+      rx_ += ch;
+    else
+      ++stats_.rx_overflow_bytes;
   }
   if (state_ != State::running) return;
   while (!planner_.empty() && planner_.front() <= now) planner_.pop_front();
@@ -368,7 +482,7 @@ void SimFirmware::advance(Micros now) {
   while (state_ == State::running) {
     read_commands(now);
     if (queue_.empty()) break;
-    const Outcome outcome = execute(queue_.front(), now);
+    const Outcome outcome = held(now) ? Outcome::blocked : execute(queue_.front(), now);
     if (outcome == Outcome::blocked) {
       if (next_busy_ == Micros::max())
         next_busy_ = now + scaled(kKeepaliveSeconds, heating_wait_ ? heat_scale() : config_.time_scale);
@@ -379,14 +493,18 @@ void SimFirmware::advance(Micros now) {
   if (state_ == State::running) keepalive(now);
 }
 
-std::string SimFirmware::take_output(Micros now) { return out_.pop(now); }
+std::string SimFirmware::take_output(Micros now) {
+  return out_.pop(now);
+}
 
 Micros SimFirmware::next_wakeup() const {
   Micros t = std::min(in_.next_arrival(), out_.next_arrival());
+  if (deaf()) return std::min(t, deaf_until_);
   if (state_ != State::running) return t;
   if (!queue_.empty()) {
     if (!planner_.empty()) t = std::min(t, planner_.front());
     if (head_until_ != Micros{0}) t = std::min(t, head_until_);
+    if (hold_until_ != Micros{0}) t = std::min(t, hold_until_);
     if (heating_wait_) t = std::min(t, next_heat_report_);
     t = std::min(t, next_busy_);
   }

@@ -9,7 +9,8 @@
 // processed when it enters the planner), with ADVANCED_OK's "ok N P B"; a planner of
 // BLOCK_BUFFER_SIZE moves that take time (trapezoids from feed rate and acceleration); heaters
 // that take time, with busy keepalives and temperature reports while M109/M190 wait; M105,
-// M115, M155 auto-report; the emergency parser (M108, M112, M410 as bytes arrive); and faults.
+// M115, M155 auto-report; the emergency parser (M108, M112, M410 as bytes arrive); and faults
+// (sim_faults.hpp), among them a board that hangs or reboots: states silent and booting.
 #pragma once
 
 #include <chrono>
@@ -17,9 +18,9 @@
 #include <deque>
 #include <optional>
 #include <random>
-#include <utility>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "protocol/sim/sim_faults.hpp"
@@ -33,11 +34,11 @@ struct SimConfig {
   std::size_t planner_blocks = 16;    // BLOCK_BUFFER_SIZE
   bool advanced_ok = false;
   bool emergency_parser = false;
-  bool autoreport = false;            // M155
-  double baud = 0;                    // bits per second on the wire, 10 per byte; 0: no limit
-  double time_scale = 0;              // wall seconds per printer second for motion; 0: instant
-  double heat_time_scale = -1;        // the same for heaters; negative: as time_scale
-  double acceleration = 1000;         // mm/s², until M204
+  bool autoreport = false;               // M155
+  double baud = 0;                       // bits per second on the wire, 10 per byte; 0: no limit
+  double time_scale = 0;                 // wall seconds per printer second for motion; 0: instant
+  double heat_time_scale = -1;           // the same for heaters; negative: as time_scale
+  double acceleration = 1000;            // mm/s², until M204
   double hotend_rate = 3, bed_rate = 1;  // °C/s
   SimFaults faults;
 };
@@ -50,16 +51,23 @@ struct SimStats {
   long long rx_overflow_bytes = 0;  // dropped: the host sent more than the buffer holds
   long long oks_dropped = 0;
   long long lines_after_halt = 0;   // lines the host sent after the firmware halted
+  long long bytes_ignored = 0;      // arrived while silent or booting, and lost
+  long long lines_rerequested = 0;  // intact, but asked for again (rerequest)
+  long long oks_malformed = 0;      // sent garbled (malformed-ok)
 };
 
 class SimFirmware {
  public:
-  enum class State { running, halted, disconnected };
+  // silent: hung (silent-after); booting: rebooting as the port opened (reset-on-open). Both say
+  // nothing and lose what arrives, until silent-for or boot-for is up. halted: after kill().
+  enum class State { running, silent, booting, halted, disconnected };
 
   explicit SimFirmware(SimConfig config);
 
   void boot(Micros now);  // "start" and the banner, as after a reset
   void receive(std::string_view bytes, Micros now);
+  // The host opened the port. With reset-on-open the board reboots, as an Arduino on DTR.
+  void port_opened(Micros now);
   void advance(Micros now);
   std::string take_output(Micros now);
   std::vector<std::string> take_executed() { return std::exchange(executed_, {}); }
@@ -79,8 +87,14 @@ class SimFirmware {
 
   void say(std::string_view line, Micros now);
   void ok(const Command& c, Micros now);
+  void send_ok(std::string line, long long command, Micros now);
   void read_commands(Micros now);
   void line_error(std::string_view what, Micros now);
+  void request_resend(Micros now);
+  bool rerequested(Micros now);
+  bool held(Micros now);
+  bool deaf() const { return state_ == State::silent || state_ == State::booting; }
+  void wake(Micros now);
   void scan_emergency(std::string_view line, Micros now);
   // blocked: try again later; replied: it sent its own ok (M105); halt: M112 without the parser.
   enum class Outcome { blocked, done, replied, halt };
@@ -88,9 +102,11 @@ class SimFirmware {
   bool move(const Command& c, Micros now);
   void after_executed(Outcome outcome, Micros now);
   void kill(std::string_view why, Micros now);
+  void clear(Micros now);
   void reset(Micros now);
   void update_heaters(Micros now);
   void keepalive(Micros now);
+  Micros busy_every() const;
   std::string temperature_report() const;
   double heat_scale() const;
   Micros scaled(double printer_seconds, double scale) const;
@@ -103,7 +119,7 @@ class SimFirmware {
   std::string incoming_;  // the line arriving, for the emergency parser
   std::deque<Command> queue_;
   long long last_n_ = 0;
-  bool flushing_ = false;  // after a line error, until the rest of the line is discarded
+  bool flushing_ = false;       // after a line error, until the rest of the line is discarded
   std::deque<Micros> planner_;  // end time of each queued move
   Micros planner_free_at_{0};
   Heater hotend_, bed_;
@@ -115,6 +131,11 @@ class SimFirmware {
   bool abort_wait_ = false;  // M108
   Micros next_busy_{Micros::max()}, next_heat_report_{Micros::max()};
   Micros autoreport_every_{0}, next_autoreport_{Micros::max()};
+  // Faults at a known moment: each fires once.
+  Micros deaf_until_{0};  // silent or booting until then; Micros::max(): for ever
+  bool rerequest_done_ = false;
+  bool busy_done_ = false;
+  Micros hold_until_{0};  // the head is held by busy-for until then; 0: not held
   // Modal state for moves.
   double pos_[4] = {0, 0, 0, 0};
   double feed_mm_s_ = 25;

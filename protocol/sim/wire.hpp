@@ -19,7 +19,10 @@ class Wire {
   std::string pop(Micros now);  // every byte that has arrived by `now`
   Micros next_arrival() const;  // when the next byte arrives; Micros::max() when empty
   bool empty() const { return chunks_.empty(); }
-  void clear() { chunks_.clear(); }
+  void clear() {  // what was on the line is lost, and the line is free at once
+    chunks_.clear();
+    free_at_us_ = 0;
+  }
 
  private:
   struct Chunk {

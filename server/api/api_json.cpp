@@ -1,5 +1,7 @@
 #include "server/api/api_json.hpp"
 
+#include "server/http/json_text.hpp"
+
 namespace salient::server {
 
 using nlohmann::json;
@@ -8,24 +10,21 @@ json parse_json_body(const HttpRequest& request, std::size_t max_bytes, std::siz
   if (request.body.size() > max_bytes)
     throw ApiError(413, "too_large", "the JSON body exceeds " + std::to_string(max_bytes) + " bytes");
   if (request.body.find_first_not_of(" \t\r\n") == std::string::npos) return json::object();
-  bool too_deep = false;
-  // The parser tells each value's depth as it goes: stop at once rather than build a deep tree.
-  const json::parser_callback_t check = [&](int depth, json::parse_event_t, json&) {
-    if (static_cast<std::size_t>(depth) > max_depth) {
-      too_deep = true;
-      throw std::invalid_argument("too deep");
-    }
-    return true;
-  };
   json j;
   try {
-    j = json::parse(request.body, check);
-  } catch (const std::exception& e) {
-    if (too_deep) throw ApiError(400, "bad_request", "the JSON body is nested deeper than " + std::to_string(max_depth));
-    throw ApiError(400, "bad_request", std::string("the body is not valid JSON: ") + e.what());
+    j = parse_json_text(request.body, max_depth);
+  } catch (const std::invalid_argument& e) {
+    throw ApiError(400, "bad_request", std::string("the JSON body is ") + e.what());
   }
   if (!j.is_object()) throw ApiError(400, "bad_request", "the body must be a JSON object");
   return j;
+}
+
+std::string string_field(const json& body, const char* key, const std::string& fallback) {
+  const auto it = body.find(key);
+  if (it == body.end()) return fallback;
+  if (!it->is_string()) throw ApiError(400, "bad_request", std::string("'") + key + "' must be a string");
+  return it->get<std::string>();
 }
 
 json job_json(const Job& j) {

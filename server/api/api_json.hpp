@@ -9,11 +9,12 @@
 
 #include "server/http/router.hpp"
 #include "server/jobs/job.hpp"
+#include "server/http/json_text.hpp"
 
 namespace salient::server {
 
 inline HttpResponse json_response(int status, const nlohmann::json& j) {
-  return HttpResponse::text(status, j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace), "application/json");
+  return HttpResponse::text(status, json_text(j), "application/json");
 }
 
 // The body as a JSON object: 413 above `max_bytes`, 400 when it is not JSON, nested deeper than
@@ -21,6 +22,9 @@ inline HttpResponse json_response(int status, const nlohmann::json& j) {
 nlohmann::json parse_json_body(const HttpRequest& request, std::size_t max_bytes, std::size_t max_depth);
 
 nlohmann::json job_json(const Job& job);
+
+// body[key] as a string, `fallback` when absent; 400 naming the key when it is anything else.
+std::string string_field(const nlohmann::json& body, const char* key, const std::string& fallback);
 
 // {"commands": ["G28", …]} or {"command": "G28"}: one-line G-code commands (400 otherwise).
 std::vector<std::string> parse_commands(const nlohmann::json& body);

@@ -8,6 +8,7 @@
 #include "server/api/api_json.hpp"
 #include "server/api/routes.hpp"
 #include "server/store/job_store.hpp"
+#include "server/http/json_text.hpp"
 
 namespace salient::server {
 
@@ -46,8 +47,14 @@ void add_event_route(Router& router) {
 SnapshotFn event_snapshots(Store& store, PrinterService& printers) {
   return [&store, &printers](const std::string& topic) {
     std::vector<std::pair<std::string, std::string>> out;
-    if (topic.rfind("job/", 0) == 0) {
-      if (auto j = JobStore(store.db()).get(topic.substr(4))) out.emplace_back("job", job_json(*j).dump());
+    if (topic == "jobs") {  // the jobs that are not finished yet, oldest first
+      JobStore jobs(store.db());
+      for (JobState state : {JobState::running, JobState::queued}) {
+        std::vector<Job> list = jobs.list(state, 256, 0);
+        for (auto j = list.rbegin(); j != list.rend(); ++j) out.emplace_back("job", json_text(job_json(*j)));
+      }
+    } else if (topic.rfind("job/", 0) == 0) {
+      if (auto j = JobStore(store.db()).get(topic.substr(4))) out.emplace_back("job", json_text(job_json(*j)));
     } else if (topic == "printers") {
       for (const auto& p : printers.all()) out.emplace_back("printer", p->status_json());
     } else if (topic.rfind("printer/", 0) == 0) {
@@ -75,7 +82,7 @@ std::function<void(const Job&)> job_event_publisher(EventHub& hub) {
       last = key;
       if (finished(j.state)) seen->last.erase(j.id);
     }
-    hub.publish({"jobs", "job/" + j.id}, "job", job_json(j).dump(), progress ? Delivery::coalesce : Delivery::always);
+    hub.publish({"jobs", "job/" + j.id}, "job", json_text(job_json(j)), progress ? Delivery::coalesce : Delivery::always);
   };
 }
 

@@ -100,7 +100,15 @@ void add_job_routes(Router& router, Store& store, JobService& jobs, const Daemon
       jobs.cancel(j.id);
       return json_response(202, job_json(job_or_404(store, j.id)));
     }
+    // Its model and artefacts go too, unless another job, a print or an upload still uses them.
+    std::vector<std::string> digests = {j.model_digest};
+    if (j.result) {
+      const json r = json::parse(*j.result, nullptr, false);
+      for (const char* key : {"gcode", "plan", "plot", "model", "saliency"})
+        if (r.is_object() && r.contains(key) && r.at(key).is_string()) digests.push_back(r.at(key).get<std::string>());
+    }
     JobStore(store.db()).remove(j.id);
+    store.remove_unreferenced(digests);
     return HttpResponse::text(204, "");
   });
   router.add("GET", "/api/v1/jobs/{id}/gcode", Access::key, [&store](const HttpRequest&, const PathParams& p) {

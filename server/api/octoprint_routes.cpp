@@ -165,9 +165,16 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
     if (!is_gcode(name))
       throw ApiError(415, "unsupported_format", name + ": only G-code (.gcode, .gco, .g) can be uploaded here; "
                                                        "send models to /api/v1/jobs to slice them");
-    const std::string digest = store.files().put(file->body);
-    PrintStore(store.db()).put_file(name, digest, static_cast<long long>(file->body.size()),
-                                    std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+    check_printable(name, file->body);  // 422 now, not a print that stalls later
+    std::optional<std::string> replaced;
+    {
+      std::lock_guard files_lock(store.files_mutex());  // the file and its row land together
+      if (auto old = PrintStore(store.db()).file(name)) replaced = old->digest;
+      const std::string digest = store.files().put(file->body);
+      PrintStore(store.db()).put_file(name, digest, static_cast<long long>(file->body.size()),
+                                      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+    }
+    if (replaced) store.remove_unreferenced({*replaced});  // an upload under the same name replaces it
     if (select || print) {
       std::lock_guard lock(octo->mutex);
       octo->selected = name;
@@ -196,7 +203,9 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
     return json_response(200, file_json(*f, r));
   });
   router.add("DELETE", "/api/files/local/{name}", Access::key, [&store](const HttpRequest&, const PathParams& p) {
-    if (!PrintStore(store.db()).remove_file(p.at("name"))) throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
+    const auto f = PrintStore(store.db()).file(p.at("name"));
+    if (!f || !PrintStore(store.db()).remove_file(p.at("name"))) throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
+    store.remove_unreferenced({f->digest});
     return HttpResponse::text(204, "");
   });
   router.add("GET", "/downloads/files/local/{name}", Access::key, [&store](const HttpRequest&, const PathParams& p) {
@@ -232,7 +241,7 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
   router.add("POST", "/api/job", Access::key, [&printers, octo, max_json, depth](const HttpRequest& r, const PathParams&) {
     const json body = parse_json_body(r, max_json, depth);
     Printer& printer = default_printer(printers);
-    const std::string command = body.value("command", std::string());
+    const std::string command = string_field(body, "command", "");
     if (command == "start") {
       std::string name;
       {
@@ -244,7 +253,7 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
     } else if (command == "cancel") {
       printer.cancel();
     } else if (command == "pause") {
-      const std::string action = body.value("action", std::string("toggle"));
+      const std::string action = string_field(body, "action", "toggle");
       const std::string state = printer.state();
       if (action == "pause" || (action == "toggle" && state == "printing")) printer.pause();
       else if (action == "resume" || action == "toggle") printer.resume();

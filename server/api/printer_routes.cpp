@@ -1,6 +1,7 @@
 // /api/v1/printers…: state, connection, prints and console commands.
 #include <nlohmann/json.hpp>
 
+#include "protocol/marlin/line_codec.hpp"
 #include "server/api/api_json.hpp"
 #include "server/api/routes.hpp"
 #include "server/store/print_store.hpp"
@@ -25,9 +26,11 @@ std::vector<std::string> parse_commands(const json& body) {
   for (const json& c : list) {
     if (!c.is_string()) throw ApiError(400, "bad_request", "each command must be a string");
     const std::string line = c.get<std::string>();
-    if (line.empty() || line.size() > 96 || line.find_first_of("\r\n") != std::string::npos)
-      throw ApiError(400, "bad_request", "each command must be one line of 1 to 96 characters (Marlin's MAX_CMD_SIZE)");
-    out.push_back(line);
+    const std::string command = protocol::marlin::strip_comment(line);
+    if (command.empty()) throw ApiError(400, "bad_request", "each command must be a G-code command, not empty or a comment");
+    if (std::string why = protocol::marlin::unsendable(command); !why.empty())
+      throw ApiError(400, "bad_request", "command '" + command.substr(0, 40) + "' cannot be sent: " + why);
+    out.push_back(command);
   }
   return out;
 }

@@ -2,6 +2,7 @@
 
 #include "server/api/routes.hpp"
 #include "server/build_info.hpp"
+#include "server/http/json_text.hpp"
 
 namespace salient::server {
 
@@ -13,9 +14,8 @@ void add_system_routes(Router& router) {
   router.add("GET", "/api/version", Access::open, [](const HttpRequest&, const PathParams&) {
     const std::string v(version());
     return HttpResponse::text(200,
-                              nlohmann::json{{"api", "0.1"}, {"server", "1.9.0"}, {"text", "OctoPrint 1.9.0 (salientd " + v + ")"},
-                                             {"salientd", v}, {"salient_api", api_level}}
-                                  .dump(),
+                              json_text(nlohmann::json{{"api", "0.1"}, {"server", "1.9.0"}, {"text", "OctoPrint 1.9.0 (salientd " + v + ")"},
+                                             {"salientd", v}, {"salient_api", api_level}}),
                               "application/json");
   });
 }

@@ -19,6 +19,7 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
   DaemonConfig c;
   TableReader top(root, "", source);
   double upload_mb = double(c.max_upload_bytes) / (1 << 20), json_kb = double(c.max_json_bytes) / (1 << 10);
+  double in_flight_mb = double(c.max_bodies_in_flight_bytes) / (1 << 20);
   core::read_section(top, "server", source, [&](TableReader& r) {
     r.text("listen", c.listen);
     r.text("data", c.data_dir);
@@ -26,7 +27,13 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
     r.number("max_json_kb", json_kb);
     r.integer("max_json_depth", c.max_json_depth, 1, 1000);
     r.number("request_timeout_seconds", c.request_timeout_seconds);
+    r.integer("max_connections", c.max_connections, 1, 1000000);
+    r.integer("max_connections_per_address", c.max_connections_per_address, 1, 1000000);
+    r.number("max_bodies_in_flight_mb", in_flight_mb);
   });
+  if (!(in_flight_mb >= upload_mb))
+    throw InputError(source, {}, "'server.max_bodies_in_flight_mb' must be at least 'server.max_upload_mb'");
+  c.max_bodies_in_flight_bytes = static_cast<std::size_t>(in_flight_mb * (1 << 20));
   c.max_upload_bytes = static_cast<std::size_t>(upload_mb * (1 << 20));
   c.max_json_bytes = static_cast<std::size_t>(json_kb * (1 << 10));
   core::read_section(top, "jobs", source, [&](TableReader& r) {

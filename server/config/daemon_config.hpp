@@ -33,7 +33,10 @@ struct DaemonConfig {
   std::size_t max_upload_bytes = 64u << 20;
   std::size_t max_json_bytes = 256u << 10;
   int max_json_depth = 32;
-  double request_timeout_seconds = 30;
+  double request_timeout_seconds = 30;  // with no progress: a slow upload that keeps sending goes on
+  int max_connections = 512;            // HTTP and WebSocket at once; more are answered 503 and closed
+  int max_connections_per_address = 64;
+  std::size_t max_bodies_in_flight_bytes = 256u << 20;  // request bodies being read at once (503 beyond)
   int workers = 1;
   int queue_limit = 32;
   std::vector<PrinterConfig> printers = {sim_printer()};

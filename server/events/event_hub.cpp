@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include "server/http/json_text.hpp"
 
 namespace salient::server {
 namespace {
@@ -15,7 +16,7 @@ bool valid_id(std::string_view id) {
 }
 
 std::string error_reply(const std::string& message) {
-  return EventHub::message("", "error", nlohmann::json{{"message", message}}.dump());
+  return EventHub::message("", "error", json_text(nlohmann::json{{"message", message}}));
 }
 
 }  // namespace
@@ -30,13 +31,13 @@ bool EventHub::valid_topic(const std::string& topic) {
 std::string EventHub::message(const std::string& topic, const std::string& type, const std::string& data_json) {
   const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   std::string out = "{\"type\":";
-  out += nlohmann::json(type).dump();
+  out += json_text(nlohmann::json(type));
   if (!topic.empty()) {
     out += ",\"topic\":";
-    out += nlohmann::json(topic).dump();
+    out += json_text(nlohmann::json(topic));
   }
   out += ",\"time\":";
-  out += nlohmann::json(std::round(now * 1000) / 1000).dump();
+  out += json_text(nlohmann::json(std::round(now * 1000) / 1000));
   out += ",\"data\":";
   out += data_json.empty() ? "null" : data_json;
   out += '}';
@@ -112,14 +113,35 @@ void Subscription::open(std::function<void()> wake) {
 
 bool Subscription::subscribe(const std::string& topic) {
   if (!EventHub::valid_topic(topic)) return false;
+  {
+    std::lock_guard lock(mutex_);
+    if (topics_.count(topic)) return true;  // subscribed already: no second snapshot
+    if (topics_.size() >= kMaxTopics) return false;
+  }
   std::vector<std::pair<std::string, std::string>> snapshot;
   if (hub_.snapshot_) snapshot = hub_.snapshot_(topic);
-  std::lock_guard lock(mutex_);
-  topics_.insert(topic);
-  for (const auto& [type, data] : snapshot) {
-    queue_.push_back({EventHub::message(topic, type, data), topic, Delivery::always});
-    ++states_;
+  std::function<void()> wake;
+  {
+    std::lock_guard lock(mutex_);
+    topics_.insert(topic);
+    for (const auto& [type, data] : snapshot)
+      if (!enqueue_state(EventHub::message(topic, type, data), topic)) break;
+    wake = wake_;
   }
+  if (wake) wake();
+  return true;
+}
+
+bool Subscription::enqueue_state(std::string text, const std::string& subject) {
+  if (!overflow_.empty()) return false;
+  if (++states_ > hub_.options_.state_limit || bytes_ + text.size() > hub_.options_.byte_limit) {
+    overflow_ = "too slow: more than " + std::to_string(hub_.options_.state_limit) + " events or " +
+                std::to_string(hub_.options_.byte_limit >> 20) + " MiB waiting";
+    queue_.clear(), head_ = 0, states_ = 0, bytes_ = 0;
+    return false;
+  }
+  bytes_ += text.size();
+  queue_.push_back({std::move(text), subject, Delivery::always});
   return true;
 }
 
@@ -132,29 +154,35 @@ void Subscription::push_reply(std::string text) {
   std::function<void()> wake;
   {
     std::lock_guard lock(mutex_);
-    queue_.push_back({std::move(text), {}, Delivery::always});
-    ++states_;
+    enqueue_state(std::move(text), {});  // a reply counts against the bound like any state change
     wake = wake_;
   }
   if (wake) wake();
 }
 
 void Subscription::receive(const std::string& text) {
-  const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.is_object())
-    return push_reply(error_reply("expected a JSON object like {\"subscribe\": [\"jobs\"]}"));
+  nlohmann::json j;
+  try {
+    j = parse_json_text(text, 4);  // {"subscribe": ["jobs"]} is two deep
+  } catch (const std::invalid_argument& e) {
+    return push_reply(error_reply(std::string("the message is ") + e.what()));
+  }
+  if (!j.is_object()) return push_reply(error_reply("expected a JSON object like {\"subscribe\": [\"jobs\"]}"));
   for (const auto& [key, value] : j.items()) {
     if (key != "subscribe" && key != "unsubscribe")
-      return push_reply(error_reply("unknown field '" + key + "': use subscribe or unsubscribe"));
+      return push_reply(error_reply("unknown field '" + key.substr(0, 64) + "': use subscribe or unsubscribe"));
     if (!value.is_array() || !std::all_of(value.begin(), value.end(), [](const auto& t) { return t.is_string(); }))
       return push_reply(error_reply("'" + key + "' must be an array of topic names"));
-    for (const auto& t : value) {
-      const std::string topic = t.get<std::string>();
+    // The same topic twice is one topic: folded here, so that no list repeats its snapshot.
+    std::set<std::string> asked;
+    for (const auto& t : value) asked.insert(t.get<std::string>());
+    for (const std::string& topic : asked) {
       if (key == "unsubscribe") {
         unsubscribe(topic);
       } else if (!subscribe(topic)) {
-        return push_reply(error_reply("unknown topic '" + topic +
-                                      "': use jobs, job/ID, printers, printer/ID or terminal/ID"));
+        return push_reply(error_reply("unknown topic '" + topic.substr(0, 80) +
+                                      "': use jobs, job/ID, printers, printer/ID or terminal/ID, at most " +
+                                      std::to_string(kMaxTopics) + " at once"));
       }
     }
   }
@@ -163,7 +191,7 @@ void Subscription::receive(const std::string& text) {
     std::lock_guard lock(mutex_);
     for (const auto& t : topics_) topics.push_back(t);
   }
-  push_reply(EventHub::message("", "subscribed", nlohmann::json{{"topics", topics}}.dump()));
+  push_reply(EventHub::message("", "subscribed", json_text(nlohmann::json{{"topics", topics}})));
 }
 
 std::function<void()> Subscription::offer(const std::vector<std::string>& topics, const std::string& text,
@@ -179,19 +207,19 @@ std::function<void()> Subscription::offer(const std::vector<std::string>& topics
     for (std::size_t i = queue_.size(); delivery == Delivery::coalesce && i-- > head_;) {
       if (queue_[i].subject != subject) continue;
       if (queue_[i].delivery != Delivery::coalesce) break;
+      bytes_ += text.size() - queue_[i].text.size();
       queue_[i].text = text;
       return {};
     }
-    if (queue_.size() - head_ >= hub_.options_.progress_limit) {
+    if (queue_.size() - head_ >= hub_.options_.progress_limit || bytes_ + text.size() > hub_.options_.byte_limit) {
       ++dropped_;
       return {};
     }
-  } else if (++states_ > hub_.options_.state_limit) {
-    overflow_ = "too slow: more than " + std::to_string(hub_.options_.state_limit) + " events waiting";
-    queue_.clear(), head_ = 0;
+    bytes_ += text.size();
+    queue_.push_back({text, subject, delivery});
+  } else if (!enqueue_state(text, subject)) {
     return wake_;
   }
-  queue_.push_back({text, subject, delivery});
   return was_empty ? wake_ : std::function<void()>{};
 }
 
@@ -200,6 +228,7 @@ std::optional<std::string> Subscription::next() {
   if (head_ == queue_.size()) return std::nullopt;
   Entry e = std::move(queue_[head_++]);
   if (e.delivery == Delivery::always) --states_;
+  bytes_ -= e.text.size();
   if (head_ == queue_.size() || head_ > 1024) {
     queue_.erase(queue_.begin(), queue_.begin() + static_cast<std::ptrdiff_t>(head_));
     head_ = 0;

@@ -20,6 +20,7 @@ namespace salient::server {
 struct EventHubOptions {
   std::size_t progress_limit = 256;  // queued events beyond which progress is dropped
   std::size_t state_limit = 4096;    // queued state changes beyond which the client is cut off
+  std::size_t byte_limit = 8u << 20;  // queued bytes of any kind: the same, counting replies and snapshots
 };
 
 // How an event may be treated when a client falls behind.
@@ -36,6 +37,8 @@ class EventHub;
 
 class Subscription : public WebSocketChannel {
  public:
+  static constexpr std::size_t kMaxTopics = 256;  // per client
+
   Subscription(EventHub& hub, std::function<void()> wake);
 
   // Client messages: {"subscribe": [topics]}, {"unsubscribe": [topics]}; answered with
@@ -61,13 +64,16 @@ class Subscription : public WebSocketChannel {
   // Queues an event; returns the wake function to call (empty: no need).
   std::function<void()> offer(const std::vector<std::string>& topics, const std::string& text, Delivery delivery);
   void push_reply(std::string text);
+  // Queues a message that must not be dropped (a state change, a snapshot, a reply); past the
+  // state limit the client is cut off instead. False then. Under mutex_.
+  bool enqueue_state(std::string text, const std::string& subject);
 
   EventHub& hub_;
   mutable std::mutex mutex_;
   std::function<void()> wake_;
   std::set<std::string> topics_;
   std::vector<Entry> queue_;  // front = oldest; small, so a vector with an index
-  std::size_t head_ = 0, states_ = 0, dropped_ = 0;
+  std::size_t head_ = 0, states_ = 0, dropped_ = 0, bytes_ = 0;
   std::string overflow_;
   bool closed_ = false;
 };

@@ -1,6 +1,9 @@
 // HttpServer: HTTP/1.1 with keep-alive on Boost.Beast (the only file that includes it is the
-// .cpp), and WebSocket through a WebSocketChannel. One strand per connection, a body limit, a timeout per read and write, and a graceful
-// stop: no new connections, responses in flight are finished, idle connections are closed.
+// .cpp), and WebSocket through a WebSocketChannel. One strand per connection; limits on
+// connections (in all and per address), header size, body size and bodies in flight; the key is
+// checked on the headers, before any body is read; a timeout per read and write without
+// progress; accepting goes on after descriptors run out; and a graceful stop: no new
+// connections, responses in flight are finished, idle connections are closed.
 #pragma once
 
 #include <chrono>
@@ -18,9 +21,16 @@ struct HttpServerOptions {
   std::string address = "127.0.0.1";
   unsigned short port = 8080;  // 0: any free port (see start())
   std::size_t body_limit = 64u << 20;
-  std::chrono::seconds timeout{30};
+  std::chrono::seconds timeout{30};  // per read or write that makes no progress
   int threads = 2;
-  // Called after each response: method, route name, status, seconds (for logs and metrics).
+  // Beyond these a new connection is answered 503 and closed, with a log line.
+  std::size_t max_connections = 512, max_connections_per_address = 64;
+  // Bodies being read at once (each counts its Content-Length, or body_limit when chunked): a
+  // request beyond the budget gets 503 with Retry-After before its body is read.
+  std::size_t max_bodies_in_flight = 256u << 20;
+  std::function<void(const std::string&)> log;  // one line, for the daemon's log
+  // Called after each response: method (one of the HTTP verbs, or "OTHER"), route name, status,
+  // seconds (for logs and metrics).
   std::function<void(const std::string&, const std::string&, int, double)> on_response;
   // Upgrade requests go here (none: they are served as plain HTTP requests).
   WebSocketAcceptor websocket;

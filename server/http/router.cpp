@@ -1,13 +1,14 @@
 #include "server/http/router.hpp"
 
 #include <nlohmann/json.hpp>
+#include "server/http/json_text.hpp"
 
 namespace salient::server {
 
 HttpResponse error_response(int status, const std::string& code, const std::string& message) {
   HttpResponse r;
   r.status = status;
-  r.body = nlohmann::json{{"error", {{"code", code}, {"message", message}}}}.dump();
+  r.body = json_text(nlohmann::json{{"error", {{"code", code}, {"message", message}}}});
   return r;
 }
 
@@ -36,7 +37,7 @@ bool match_pattern(const std::string& pattern, const std::string& path, PathPara
   return p == pattern.size() && s == path.size();
 }
 
-HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_name) const {
+std::optional<HttpResponse> Router::refusal(const HttpRequest& request, std::string* route_name) const {
   std::string allowed;
   PathParams params;
   for (const Route& route : routes_) {
@@ -48,6 +49,24 @@ HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_nam
     if (route_name) *route_name = route.name;
     if (route.access == Access::key && authenticate_ && !authenticate_(request))
       return error_response(401, "unauthorized", "an API key is required: X-Api-Key: KEY or Authorization: Bearer KEY");
+    return std::nullopt;
+  }
+  if (route_name) *route_name = "unmatched";
+  if (!allowed.empty()) {
+    // Outside text in the message is cut short: a method may be 10 KB of anything.
+    HttpResponse r = error_response(405, "method_not_allowed",
+                                    request.method.substr(0, 32) + " is not allowed on " + request.path.substr(0, 256));
+    r.headers.emplace_back("Allow", allowed);
+    return r;
+  }
+  return error_response(404, "not_found", "no such endpoint: " + request.path.substr(0, 256));
+}
+
+HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_name) const {
+  if (auto refused = refusal(request, route_name)) return *refused;
+  PathParams params;
+  for (const Route& route : routes_) {
+    if (route.method != request.method || !match_pattern(route.pattern, request.path, params)) continue;
     try {
       return route.handler(request, params);
     } catch (const ApiError& e) {
@@ -55,16 +74,12 @@ HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_nam
       r.headers.insert(r.headers.end(), e.headers().begin(), e.headers().end());
       return r;
     } catch (const std::exception& e) {
-      return error_response(500, "internal", e.what());
+      if (map_exception_)
+        if (auto r = map_exception_(e, route.name)) return *r;
+      return error_response(500, "internal", "internal error (logged)");
     }
   }
-  if (route_name) *route_name = "unmatched";
-  if (!allowed.empty()) {
-    HttpResponse r = error_response(405, "method_not_allowed", request.method + " is not allowed on " + request.path);
-    r.headers.emplace_back("Allow", allowed);
-    return r;
-  }
-  return error_response(404, "not_found", "no such endpoint: " + request.path);
+  return error_response(404, "not_found", "no such endpoint: " + request.path.substr(0, 256));
 }
 
 }  // namespace salient::server

@@ -5,6 +5,7 @@
 
 #include <functional>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -49,15 +50,24 @@ class Router {
  public:
   void add(std::string method, std::string pattern, Access access, Handler handler);
   void set_authenticator(std::function<bool(const HttpRequest&)> check) { authenticate_ = std::move(check); }
+  // Turns an exception a handler let through (not an ApiError) into the response: a full disk
+  // into 507, say. Without one, or when it returns nothing, it is a 500 that names no detail
+  // (which may hold paths); `route` is the matched pattern, for the log.
+  using ExceptionMapper = std::function<std::optional<HttpResponse>(const std::exception&, const std::string& route)>;
+  void set_exception_mapper(ExceptionMapper mapper) { map_exception_ = std::move(mapper); }
 
   // 404 when no pattern matches, 405 (with Allow) when only the method is wrong, 401 without a
   // valid key on a keyed route. `route_name` gets the matched pattern (or "unmatched").
   HttpResponse dispatch(const HttpRequest& request, std::string* route_name = nullptr) const;
+  // The 404, 405 or 401 that `request` gets whatever its body: the server asks this on the
+  // headers alone, so that nobody without a key can make it read (and hold) a body.
+  std::optional<HttpResponse> refusal(const HttpRequest& request, std::string* route_name = nullptr) const;
   const std::vector<Route>& routes() const { return routes_; }
 
  private:
   std::vector<Route> routes_;
   std::function<bool(const HttpRequest&)> authenticate_;
+  ExceptionMapper map_exception_;
 };
 
 // Matches "/api/v1/jobs/{id}" against a path, filling the named segments.

@@ -7,12 +7,14 @@
 #include <nlohmann/json.hpp>
 
 #include "core/common/input_error.hpp"
+#include "core/mesh/mesh_loader.hpp"
 #include "core/mesh/mesh_reader.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "server/http/router.hpp"
 #include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"
+#include "server/http/json_text.hpp"
 #include "server/store/sha256.hpp"
 
 namespace salient::server {
@@ -124,10 +126,11 @@ JobService::Submitted JobService::submit(const std::string& filename, const std:
   if (!core::detect_format(bytes, name))
     throw ApiError(415, "unsupported_format", name + ": not an STL, OBJ, PLY or OFF model");
   try {
-    core::read_mesh(bytes, name);
+    core::load_mesh(bytes, name);  // read and repaired: no usable triangle is 422 now, not a failed job later
   } catch (const core::InputError& e) {
     throw ApiError(422, "unreadable_mesh", e.what());
   }
+  std::lock_guard files_lock(store_.files_mutex());  // the file and its row land together
   const std::string digest = store_.files().put(bytes);
   const std::string settings_digest = sha256_hex(settings.canonical);
   JobStore jobs(store_.db());
@@ -165,7 +168,8 @@ void JobService::work() {
   if (options_.nice > 0) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), options_.nice);
   for (;;) {
     std::optional<Job> job;
-    {
+    auto token = std::make_shared<core::CancelToken>();
+    try {
       std::unique_lock lock(mutex_);
       if (stopping_) return;
       job = JobStore(store_.db()).start_next(now_seconds());
@@ -173,18 +177,18 @@ void JobService::work() {
         wake_.wait_for(lock, std::chrono::seconds(1));
         continue;
       }
+      // Registered in the same step that makes it running: a cancel can never fall between.
+      running_[job->id] = token;
+    } catch (const StoreError&) {  // a full disk: no job can start now; space may come back
+      std::unique_lock lock(mutex_);
+      wake_.wait_for(lock, std::chrono::seconds(1));
+      continue;
     }
-    run(*job);
+    run(*job, token);
   }
 }
 
-void JobService::run(Job job) {
-  auto token = std::make_shared<core::CancelToken>();
-  {
-    std::lock_guard lock(mutex_);
-    if (stopping_) return;  // stays running: re-queued at the next start
-    running_[job.id] = token;
-  }
+void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
   changed(job.id);
   const fs::path work = store_.data_dir() / "work" / job.id;
   std::mutex progress_mutex;
@@ -205,7 +209,11 @@ void JobService::run(Job job) {
                          if (last_phase == s.phase && (overall - last_progress < 0.02 || t - last_write < std::chrono::milliseconds(100)))
                            return;
                          last_phase = s.phase, last_progress = overall, last_write = t;
-                         JobStore(store_.db()).set_progress(job.id, s.phase, overall);
+                         try {
+                           JobStore(store_.db()).set_progress(job.id, s.phase, overall);
+                         } catch (const StoreError&) {
+                           return;  // a full disk: progress is not worth failing the job for
+                         }
                          changed(job.id);
                        }};
   std::optional<std::string> error, result;
@@ -223,8 +231,8 @@ void JobService::run(Job job) {
     const std::string gcode = store_.files().put(r.gcode);
     const nlohmann::json plan = {{"model", r.model_name}, {"z", r.z}, {"layers", r.layers}, {"finest_layers", r.finest_layers},
                                  {"error", r.error},      {"rsmd", r.rsmd}};
-    const std::string plan_digest = store_.files().put(plan.dump(2));
-    result = nlohmann::json{{"layers", r.layers},
+    const std::string plan_digest = store_.files().put(json_text(plan, 2));
+    result = json_text(nlohmann::json{{"layers", r.layers},
                             {"finest_layers", r.finest_layers},
                             {"saving", r.finest_layers > 0 ? 1.0 - double(r.layers) / r.finest_layers : 0.0},
                             {"print_seconds", r.print_seconds},
@@ -239,8 +247,7 @@ void JobService::run(Job job) {
                             {"plan", plan_digest},
                             {"plot", store_.files().put(r.plot_svg)},
                             {"model", store_.files().put(r.model_3mf)},
-                            {"saliency", store_.files().put(r.saliency_ply)}}
-                 .dump();
+                            {"saliency", store_.files().put(r.saliency_ply)}});
   } catch (const core::Cancelled&) {
     end = JobState::cancelled;
   } catch (const core::InputError& e) {
@@ -259,7 +266,18 @@ void JobService::run(Job job) {
     shutting_down = stopping_;
   }
   if (end == JobState::cancelled && shutting_down) return;  // interrupted by a stop: re-queued next start
-  JobStore(store_.db()).finish(job.id, end, error, result, now_seconds());
+  // A full disk may free up: the outcome is retried for a while; if it never lands, the job is
+  // still "running" in the database and is re-queued at the next start.
+  for (int attempt = 0;; ++attempt) {
+    try {
+      JobStore(store_.db()).finish(job.id, end, error, result, now_seconds());
+      break;
+    } catch (const StoreError&) {
+      std::unique_lock lock(mutex_);
+      if (stopping_ || attempt >= 60) return;
+      wake_.wait_for(lock, std::chrono::seconds(1));
+    }
+  }
   changed(job.id);
 }
 

@@ -47,7 +47,7 @@ class JobService {
 
  private:
   void work();
-  void run(Job job);
+  void run(Job job, const std::shared_ptr<core::CancelToken>& token);
   void changed(const std::string& id);
 
   Store& store_;

@@ -6,6 +6,7 @@
 #include <set>
 
 #include "server/http/router.hpp"
+#include "server/http/json_text.hpp"
 
 namespace salient::server {
 namespace {
@@ -21,18 +22,11 @@ using nlohmann::json;
   bad(m);
 }
 
-std::size_t depth(const json& j) {
-  std::size_t d = 0;
-  if (j.is_structured())
-    for (const auto& v : j) d = std::max(d, depth(v));
-  return d + (j.is_structured() ? 1 : 0);
-}
-
 double number(const json& j, const char* key, double min, double max) {
   const json& v = j.at(key);
   if (!v.is_number()) bad_key(key, "must be a number");
   const double x = v.get<double>();
-  if (!(x >= min && x <= max)) bad_key(key, ("must be between " + json(min).dump() + " and " + json(max).dump()).c_str());
+  if (!(x >= min && x <= max)) bad_key(key, ("must be between " + json_text(json(min)) + " and " + json_text(json(max))).c_str());
   return x;
 }
 
@@ -53,10 +47,12 @@ bool flag(const json& j, const char* key) {
 JobSettings parse_job_settings(const std::string& text_in, std::size_t max_depth) {
   json j = json::object();
   if (!text_in.empty()) {
-    j = json::parse(text_in, nullptr, false);
-    if (j.is_discarded()) bad("not valid JSON");
+    try {
+      j = parse_json_text(text_in, max_depth);
+    } catch (const std::invalid_argument& e) {
+      bad(e.what());
+    }
     if (!j.is_object()) bad("must be a JSON object");
-    if (depth(j) > max_depth) bad("nested deeper than " + std::to_string(max_depth));
   }
   JobSettings s;
   core::SliceSettings& c = s.slice;
@@ -108,7 +104,7 @@ JobSettings parse_job_settings(const std::string& text_in, std::size_t max_depth
   if (p.mesh.height) canon["height"] = *p.mesh.height;
   if (!c.min_layer_from_printer) canon["min_layer"] = p.min_layer;
   if (!c.max_layer_from_printer) canon["max_layer"] = p.max_layer;
-  s.canonical = canon.dump();
+  s.canonical = json_text(canon);
   return s;
 }
 

@@ -8,6 +8,7 @@
 #include "server/http/router.hpp"
 #include "server/printers/sim_process.hpp"
 #include "server/printers/terminal_tap.hpp"
+#include "server/http/json_text.hpp"
 
 namespace salient::server {
 namespace {
@@ -66,6 +67,18 @@ std::string not_ready(const std::string& state, const std::string& error) {
 }
 
 }  // namespace
+
+long long check_printable(const std::string& name, const std::string& gcode) {
+  const std::vector<std::string> lines = split_lines(gcode);
+  // A line the firmware cannot take would stall the print halfway: refused before it starts.
+  if (auto bad = protocol::marlin::find_unsendable(lines))
+    throw ApiError(422, "not_gcode", name + " line " + std::to_string(bad->line) + " cannot be sent: " + bad->why);
+  long long commands = 0;
+  for (const std::string& line : lines)
+    if (!protocol::marlin::strip_comment(line).empty()) ++commands;
+  if (commands == 0) throw ApiError(422, "no_commands", name + " holds no G-code commands (only comments or blank lines)");
+  return commands;
+}
 
 Printer::Printer(PrinterConfig config, Store& store, Hooks hooks)
     : config_(std::move(config)), store_(store), hooks_(std::move(hooks)) {
@@ -128,7 +141,7 @@ std::string Printer::status_json() const {
     print["elapsed"] = elapsed;
     print["eta"] = fraction > 0.01 ? json(elapsed * (1 - fraction) / fraction) : json(nullptr);
   }
-  return json{{"id", config_.id},
+  return json_text(json{{"id", config_.id},
               {"kind", config_.kind},
               {"protocol", config_.protocol},
               {"profile", config_.profile},
@@ -140,8 +153,7 @@ std::string Printer::status_json() const {
                {{"hotend", {{"actual", optional_number(hotend_)}, {"target", optional_number(hotend_target_)}}},
                 {"bed", {{"actual", optional_number(bed_)}, {"target", optional_number(bed_target_)}}}}},
               {"print", print},
-              {"last_print", last_ ? record_json(*last_) : json(nullptr)}}
-      .dump();
+              {"last_print", last_ ? record_json(*last_) : json(nullptr)}});
 }
 
 void Printer::connect() {
@@ -182,9 +194,7 @@ long long Printer::start_print(const PrintRequest& request) {
   }
   // Reading and counting a large file happens outside the lock that status requests take.
   Current c;
-  c.total = 0;
-  for (const std::string& line : split_lines(store_.files().read(request.file_digest)))
-    if (!protocol::marlin::strip_comment(line).empty()) ++c.total;
+  c.total = check_printable(request.filename, store_.files().read(request.file_digest));
   std::lock_guard lock(mutex_);
   refuse_unless_ready();  // another request may have started one meanwhile
   c.record = PrintStore(store_.db()).create(config_.id, request.job_id, request.file_digest, request.filename, c.total,
@@ -193,6 +203,7 @@ long long Printer::start_print(const PrintRequest& request) {
   c.started = Clock::now();
   print_wanted_ = request;
   print_wanted_id_ = c.record.id;
+  cancel_requested_ = false;
   current_ = c;
   state_ = "printing";
   error_.clear();
@@ -225,6 +236,7 @@ void Printer::cancel() {
     std::lock_guard lock(mutex_);
     if ((state_ != "printing" && state_ != "paused") || !link_) conflict(config_.id, "is " + state_ + ": nothing to cancel");
     link_->cancel();
+    cancel_requested_ = true;
     state_ = "cancelling";
   }
   notify(false);
@@ -350,6 +362,9 @@ void Printer::close_link(const std::string& state, const std::string& error) {
     std::lock_guard lock(mutex_);
     link = std::move(link_);
     sim = std::move(sim_);
+    // Requests were for this connection: none of them is carried over to the next one.
+    estop_wanted_ = disconnect_wanted_ = false;
+    commands_wanted_.clear();
     const bool had = link != nullptr || state_ != state;
     state_ = state;
     error_ = error;
@@ -379,18 +394,26 @@ void Printer::handle_event(const marlin::SessionEvent& e, Throttle& throttle) {
     } else if (e.kind == Kind::acknowledged && current_) {
       current_->confirmed = e.line;
       tell = true;
-      if (Clock::now() - throttle.last_save >= std::chrono::seconds(1)) {
+      // Saved at most every 20 ms: a kill -9 repeats at most that much of the print on resume.
+      if (Clock::now() - throttle.last_save >= std::chrono::milliseconds(20)) {
         save = true, throttle.last_save = Clock::now();
         print_id = current_->record.id, confirmed = current_->confirmed, state = state_;
       }
     }
   }
-  // Told at most 10 times a second, saved once a second: a print acknowledges thousands of lines a second.
+  // Told at most 10 times a second, saved at most 50 times: a print acknowledges thousands of lines a second.
   if (tell && Clock::now() - throttle.last_notify >= std::chrono::milliseconds(100)) {
     throttle.last_notify = Clock::now();
     notify(true);
   }
-  if (save) PrintStore(store_.db()).set_progress(print_id, state == "paused" ? "paused" : "printing", confirmed);
+  if (save && Clock::now() >= throttle.saves_paused_until) {
+    try {
+      PrintStore(store_.db()).set_progress(print_id, state == "paused" ? "paused" : "printing", confirmed);
+    } catch (const StoreError&) {
+      // A full disk must not stop the print: progress writes pause, and are tried again later.
+      throttle.saves_paused_until = Clock::now() + std::chrono::seconds(5);
+    }
+  }
 }
 
 void Printer::run_print(const PrintRequest& request, long long print_id,
@@ -403,14 +426,18 @@ void Printer::run_print(const PrintRequest& request, long long print_id,
     const std::vector<std::string> prelude =
         request.resume_from > 0 ? marlin::resume_prelude(gcode, request.resume_from) : std::vector<std::string>{};
     result = link_->print(gcode, on_event, request.resume_from, prelude);
+    bool cancelled = false;
     {
       std::lock_guard lock(mutex_);
       interrupted = stopping_;
+      cancelled = cancel_requested_;
     }
     switch (result.state) {
       case marlin::SessionState::finished: state = "finished"; break;
       case marlin::SessionState::cancelled: state = interrupted ? "interrupted" : "cancelled"; break;
-      default: state = result.disconnected ? "interrupted" : "failed"; break;
+      default:  // failed: a cancel that had to halt the firmware, or whose printer went silent, is still a cancel
+        state = cancelled || result.halted ? "cancelled" : interrupted || result.disconnected ? "interrupted" : "failed";
+        break;
     }
     if (interrupted && result.reason.empty()) result.reason = "the daemon stopped during the print";
   } catch (const std::exception& e) {
@@ -419,10 +446,19 @@ void Printer::run_print(const PrintRequest& request, long long print_id,
   const std::optional<std::string> reason =
       result.reason.empty() ? std::nullopt : std::optional<std::string>(result.reason);
   PrintStore prints(store_.db());
-  prints.finish(print_id, state, static_cast<long long>(result.confirmed), reason, now_seconds());
+  std::optional<PrintRecord> record;
+  try {
+    prints.finish(print_id, state, static_cast<long long>(result.confirmed), reason, now_seconds());
+    record = prints.get(print_id);
+  } catch (const StoreError&) {  // a full disk: the outcome is kept in memory; the row says "printing"
+  }
   {
     std::lock_guard lock(mutex_);
-    last_ = prints.get(print_id);
+    if (!record && current_) {
+      record = current_->record;
+      record->state = state, record->confirmed = static_cast<long long>(result.confirmed), record->reason = reason;
+    }
+    last_ = record;
     current_.reset();
     counters_.lines_sent += static_cast<long long>(result.confirmed - std::min(result.confirmed, request.resume_from));
     counters_.lines_resent += static_cast<long long>(result.lines_resent);
@@ -431,7 +467,8 @@ void Printer::run_print(const PrintRequest& request, long long print_id,
     state_ = "operational";
   }
   if (result.disconnected) return close_link("error", "link lost during the print: " + result.reason);
-  if (state == "failed") return close_link("error", result.reason.empty() ? "the print failed" : result.reason);
+  if (result.state == marlin::SessionState::failed)
+    return close_link("error", result.reason.empty() ? "the print failed" : result.reason);
   notify(false);
 }
 

@@ -33,6 +33,10 @@ namespace salient::server {
 
 class SimProcess;
 
+// The number of commands in `gcode`; ApiError 422 when it has none, or a line that cannot be
+// sent (too long, binary, not ASCII), named with its line number.
+long long check_printable(const std::string& name, const std::string& gcode);
+
 struct PrintRequest {
   std::optional<std::string> job_id;
   std::string file_digest, filename;
@@ -80,6 +84,7 @@ class Printer {
  private:
   struct Throttle {
     std::chrono::steady_clock::time_point last_notify{}, last_save = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::time_point saves_paused_until{};  // after a full disk
   };
   void run();
   long long start_print(const PrintRequest& request);
@@ -99,6 +104,7 @@ class Printer {
   std::condition_variable wake_;
   std::thread thread_;
   bool stopping_ = false, connect_wanted_ = false, disconnect_wanted_ = false, estop_wanted_ = false;
+  bool cancel_requested_ = false;  // the running print was cancelled (not failed) by a request
   std::optional<PrintRequest> print_wanted_;
   long long print_wanted_id_ = 0;
   std::vector<std::vector<std::string>> commands_wanted_;

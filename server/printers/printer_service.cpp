@@ -6,6 +6,7 @@
 #include "server/http/router.hpp"
 #include "server/store/job_store.hpp"
 #include "server/store/print_store.hpp"
+#include "server/http/json_text.hpp"
 
 namespace salient::server {
 
@@ -23,8 +24,7 @@ PrinterService::PrinterService(const DaemonConfig& config, Store& store, EventHu
     hooks.terminal_wanted = [&hub, terminal] { return hub.has_subscribers(terminal); };
     hooks.terminal = [&hub, terminal](const Printer&, bool sent, std::string_view line) {
       hub.publish({terminal}, "terminal",
-                  nlohmann::json{{"direction", sent ? "sent" : "received"}, {"line", std::string(line)}}
-                      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace),
+                  json_text(nlohmann::json{{"direction", sent ? "sent" : "received"}, {"line", std::string(line)}}),
                   Delivery::best_effort);
     };
     printers_.push_back(std::make_unique<Printer>(p, store_, std::move(hooks)));

@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -71,6 +72,10 @@ SimProcess::SimProcess(const std::string& program, const std::vector<std::string
     dup2(out[1], STDOUT_FILENO);
     const int null = open("/dev/null", O_RDONLY);
     if (null >= 0) dup2(null, STDIN_FILENO);
+    // Nothing of the daemon's (its listening socket, clients, database) may live on in the
+    // simulator: a descriptor opened without O_CLOEXEC anywhere would hold the port after a kill -9.
+    if (syscall(SYS_close_range, 3U, ~0U, 0U) != 0)
+      for (int fd = 3; fd < 65536; ++fd) close(fd);
     sigset_t none;
     sigemptyset(&none);
     sigprocmask(SIG_SETMASK, &none, nullptr);  // the daemon blocks SIGTERM in its threads

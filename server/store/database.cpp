@@ -80,7 +80,7 @@ struct Database::Statement::Impl {
   sqlite3_stmt* stmt;
   ~Impl() { sqlite3_finalize(stmt); }
   void check(int rc, std::string_view what) const {
-    if (rc != SQLITE_OK) throw StoreError(std::string(what) + ": " + sqlite3_errmsg(db));
+    if (rc != SQLITE_OK) throw StoreError(std::string(what) + ": " + sqlite3_errmsg(db), (rc & 0xff) == SQLITE_FULL);
   }
 };
 
@@ -117,7 +117,7 @@ bool Database::Statement::step() {
   }
   const std::string message = sqlite3_errmsg(impl_->db);
   sqlite3_reset(impl_->stmt);
-  throw StoreError("SQLite: " + message);
+  throw StoreError("SQLite: " + message, (rc & 0xff) == SQLITE_FULL);
 }
 
 void Database::Statement::run() {
@@ -156,10 +156,10 @@ Database::Statement Database::prepare(std::string_view sql) {
 
 void Database::exec(std::string_view sql) {
   char* error = nullptr;
-  if (sqlite3_exec(handle_->db, std::string(sql).c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
+  if (const int rc = sqlite3_exec(handle_->db, std::string(sql).c_str(), nullptr, nullptr, &error); rc != SQLITE_OK) {
     const std::string message = error ? error : "unknown error";
     sqlite3_free(error);
-    throw StoreError("SQLite: " + message);
+    throw StoreError("SQLite: " + message, (rc & 0xff) == SQLITE_FULL);
   }
 }
 

@@ -16,12 +16,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
+bool no_space(int err) { return err == ENOSPC || err == EDQUOT; }
+
 void fsync_path(const fs::path& p, int flags) {
   const int fd = ::open(p.c_str(), flags | O_CLOEXEC);
   if (fd < 0) throw StoreError(p.string() + ": " + std::strerror(errno));
   const int rc = ::fsync(fd);
   ::close(fd);
-  if (rc != 0) throw StoreError(p.string() + ": fsync: " + std::strerror(errno));
+  if (rc != 0) throw StoreError(p.string() + ": fsync: " + std::strerror(errno), no_space(errno));
 }
 
 }  // namespace
@@ -54,7 +56,7 @@ std::string FileStore::put(std::string_view bytes) {
   const fs::path tmp = root_ / "tmp" / (digest + "." + std::to_string(::getpid()) + "." + std::to_string(counter++));
   {
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-    if (fd < 0) throw StoreError(tmp.string() + ": " + std::strerror(errno));
+    if (fd < 0) throw StoreError(tmp.string() + ": " + std::strerror(errno), no_space(errno));
     std::size_t done = 0;
     while (done < bytes.size()) {
       const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -63,14 +65,25 @@ std::string FileStore::put(std::string_view bytes) {
         const int err = errno;
         ::close(fd);
         fs::remove(tmp);
-        throw StoreError(tmp.string() + ": write: " + std::strerror(err));
+        throw StoreError(tmp.string() + ": write: " + std::strerror(err), no_space(err));
       }
       done += static_cast<std::size_t>(n);
     }
-    if (::fsync(fd) != 0 || ::close(fd) != 0) throw StoreError(tmp.string() + ": fsync: " + std::strerror(errno));
+    if (::fsync(fd) != 0 || ::close(fd) != 0) {
+      const int err = errno;
+      std::error_code ignored;
+      fs::remove(tmp, ignored);
+      throw StoreError(tmp.string() + ": fsync: " + std::strerror(err), no_space(err));
+    }
   }
-  fs::create_directories(target.parent_path());
-  fs::rename(tmp, target);
+  std::error_code ec;
+  fs::create_directories(target.parent_path(), ec);
+  if (!ec) fs::rename(tmp, target, ec);
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw StoreError(target.string() + ": " + ec.message(), no_space(ec.value()));
+  }
   fsync_path(target.parent_path(), O_RDONLY | O_DIRECTORY);
   return digest;
 }

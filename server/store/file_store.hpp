@@ -10,9 +10,16 @@
 
 namespace salient::server {
 
+// What went wrong in the data directory. disk_full(): no space (ENOSPC, EDQUOT, SQLITE_FULL):
+// the operation fails with 507 and the daemon carries on; space may come back.
 class StoreError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit StoreError(const std::string& message, bool disk_full = false)
+      : std::runtime_error(message), disk_full_(disk_full) {}
+  bool disk_full() const { return disk_full_; }
+
+ private:
+  bool disk_full_;
 };
 
 class FileStore {

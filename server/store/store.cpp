@@ -17,4 +17,22 @@ Database& Store::db() {
   return *c;
 }
 
+std::size_t Store::remove_unreferenced(const std::vector<std::string>& digests) {
+  std::lock_guard lock(files_mutex_);
+  std::size_t removed = 0;
+  for (const std::string& d : digests) {
+    if (!FileStore::valid_digest(d) || !files_.contains(d)) continue;
+    // A job's result names its artefacts by digest inside its JSON: a digest is 64 hex digits,
+    // so a substring match cannot hit anything else.
+    auto q = db().prepare(
+        "SELECT (SELECT COUNT(*) FROM jobs WHERE model_digest = ?1 OR instr(result, ?1) > 0) + "
+        "(SELECT COUNT(*) FROM prints WHERE file_digest = ?1) + (SELECT COUNT(*) FROM files WHERE digest = ?1)");
+    q.bind(1, std::string_view(d));
+    if (q.step() && q.integer(0) > 0) continue;
+    files_.remove(d);
+    ++removed;
+  }
+  return removed;
+}
+
 }  // namespace salient::server

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "core/common/input_error.hpp"
+#include "core/pipeline/planning_setup.hpp"
 #include "core/slicing/objective.hpp"
 #include "tests/core/slicing/slicing_test_util.hpp"
 
@@ -79,4 +80,20 @@ TEST_CASE("a height off the grid ends in a thinner last cell") {
   CHECK(p.cells() == 101);
   CHECK(p.z(p.cells()) == doctest::Approx(1.005));
   CHECK(check_plan(p, fine_plan(p)).empty());
+}
+
+TEST_CASE("the z-profile is reported and can be cancelled, as the daemon's jobs need") {
+  salient::core::PlanOptions o;
+  o.mesh.model = SALIENT_MODELS_DIR "/stanford-bunny.obj";  // 69,451 triangles: reported twice
+  o.mesh.up = "y";
+  o.mesh.height = 40;
+  salient::core::CancelToken token;
+  int profile_reports = 0;
+  const salient::core::RunContext run{&token, [&](std::string_view phase, double) {
+                                        if (phase != "profile") return;
+                                        ++profile_reports;
+                                        token.cancel();  // as a DELETE does while the profile is built
+                                      }};
+  CHECK_THROWS_AS(salient::core::prepare(o, run), salient::core::Cancelled);
+  CHECK(profile_reports == 1);
 }

@@ -1,6 +1,8 @@
 // MarlinSession in scripted conversations: what it writes, given what the firmware answers.
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <deque>
 #include <sstream>
 
 #include "protocol/marlin/line_codec.hpp"
@@ -279,4 +281,125 @@ TEST_CASE("a poke whose own ok is lost: the next poke's reply settles both, noth
   s.on_receive("ok\n", milliseconds(402));
   CHECK(s.state() == SessionState::finished);
   CHECK(s.pokes_sent() == 2);
+}
+
+namespace {
+
+// Drives a ping-pong print against a firmware that answers each line `latency` after it was
+// sent and loses the oks named in `lost` (counting lines that are not pokes), ticking every
+// millisecond as a driver does; returns the time the print took.
+milliseconds run_ping_pong(std::size_t lines, milliseconds latency, const std::vector<std::size_t>& lost,
+                           std::size_t* pokes = nullptr) {
+  std::vector<std::string> gcode;
+  for (std::size_t i = 0; i < lines; ++i) gcode.push_back("G1 X" + std::to_string(i % 100));
+  MarlinSession s;
+  milliseconds now(0);
+  s.begin(gcode, now);
+  std::deque<std::pair<milliseconds, std::string>> replies;  // due time, reply
+  std::size_t answered = 0;
+  while (s.state() == SessionState::printing && now < milliseconds(10'000'000)) {
+    for (const auto& [n, c] : sent(s.take_output())) {
+      if (c == "M105") replies.emplace_back(now + latency, "ok T:200.0 /200.0\n");
+      else if (std::find(lost.begin(), lost.end(), answered++) == lost.end()) replies.emplace_back(now + latency, "ok\n");
+    }
+    now += milliseconds(1);
+    while (!replies.empty() && replies.front().first <= now) {
+      s.on_receive(replies.front().second, now);
+      replies.pop_front();
+    }
+    s.on_tick(now);
+  }
+  REQUIRE(s.state() == SessionState::finished);
+  if (pokes) *pokes = s.pokes_sent();
+  return now;
+}
+
+}  // namespace
+
+TEST_CASE("a lost ok in ping-pong costs a fraction of a second, adapted to the link, not the 10 s ceiling") {
+  const milliseconds clean = run_ping_pong(2000, milliseconds(5), {});
+  std::vector<std::size_t> lost;
+  for (std::size_t i = 100; i < 2000; i += 100) lost.push_back(i);  // 1 % of the oks, 19 of them
+  std::size_t pokes = 0;
+  const milliseconds lossy = run_ping_pong(2000, milliseconds(5), lost, &pokes);
+  CHECK(pokes == lost.size());
+  const double per_loss = double((lossy - clean).count()) / double(lost.size());
+  CHECK(per_loss <= 300);  // min_reply_timeout (250 ms) plus the poke's own round trip
+  // A printer that is merely slow (1.5 s per line, steadily) is learned, and never poked.
+  std::size_t slow_pokes = 0;
+  run_ping_pong(60, milliseconds(1500), {}, &slow_pokes);
+  CHECK(slow_pokes == 0);
+}
+
+TEST_CASE("a printer that goes silent fails the print after silence_limit, naming the last confirmed line") {
+  SessionConfig c;
+  c.silence_limit = milliseconds(5000);
+  MarlinSession s(c);
+  s.begin({"G1 X1", "G1 X2", "G1 X3"}, milliseconds(0));
+  s.on_receive("ok\n", milliseconds(5));   // M110
+  s.on_receive("ok\n", milliseconds(10));  // G1 X1; then nothing ever again
+  milliseconds now(10);
+  while (s.state() == SessionState::printing && now < milliseconds(60000)) s.on_tick(now += milliseconds(50));
+  CHECK(s.state() == SessionState::failed);
+  CHECK(now >= milliseconds(5000));
+  CHECK(now <= milliseconds(5100));
+  CHECK(s.pokes_sent() >= 2);
+  CHECK(s.commands_done() == 1);
+  bool said = false;
+  for (const auto& e : s.take_events())
+    if (e.kind == SessionEvent::Kind::failed) said = e.text.find("stopped answering after line 1") != std::string::npos;
+  CHECK(said);
+}
+
+TEST_CASE("a cancel that a silent printer never confirms ends after cancel_silence_limit") {
+  SessionConfig c;
+  c.cancel_silence_limit = milliseconds(2000);
+  MarlinSession s(c);
+  s.begin({"G1 X1", "G1 X2"}, milliseconds(0));
+  s.on_receive("ok\n", milliseconds(5));
+  s.cancel({"M104 S0"}, milliseconds(100));
+  milliseconds now(100);
+  while (s.state() == SessionState::cancelled && now < milliseconds(60000)) s.on_tick(now += milliseconds(50));
+  CHECK(s.state() == SessionState::failed);
+  CHECK(now <= milliseconds(2200));
+}
+
+TEST_CASE("cancel during a heating wait: M108 at once with an emergency parser, M112 without one") {
+  for (bool parser : {true, false}) {
+    CAPTURE(parser);
+    SessionConfig c;
+    c.emergency_parser = parser;
+    MarlinSession s(c);
+    s.begin({"M109 S200", "G1 X1"}, milliseconds(0));
+    s.on_receive("ok\n", milliseconds(5));  // M110 done; M109 goes and waits for the heat
+    s.take_output();
+    s.cancel({"M104 S0"}, milliseconds(100));
+    const std::string out = s.take_output();
+    CHECK(out.rfind(parser ? "M108\n" : "M112\n", 0) == 0);
+    CHECK(s.halted() == !parser);
+    if (parser) {
+      s.on_receive("ok\n", milliseconds(110));  // M109 broken off
+      CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{2, "M104 S0"}});
+    } else {
+      CHECK(s.state() == SessionState::failed);
+    }
+  }
+}
+
+TEST_CASE("an empty file finishes at once, an unsendable line is refused before anything goes") {
+  MarlinSession empty;
+  empty.begin({"; only a comment", ""}, milliseconds(0));
+  empty.on_receive("ok\n", milliseconds(1));  // M110
+  CHECK(empty.state() == SessionState::finished);
+  MarlinSession binary;
+  binary.begin({"G28", std::string("G1 X1\0\x01\xff", 9)}, milliseconds(0));
+  CHECK(binary.state() == SessionState::failed);
+  CHECK(binary.take_output().empty());
+  MarlinSession long_line;
+  long_line.begin({"M117 " + std::string(100, 'a')}, milliseconds(0));
+  CHECK(long_line.state() == SessionState::failed);
+  const auto bad = find_unsendable({"G28", "", "G1 X1 ; fine", "G1 X2*3"});
+  REQUIRE(bad);
+  CHECK(bad->line == 4);
+  CHECK(unsendable("G1 X\xc3\xa9").find("not printable ASCII") != std::string::npos);
 }
