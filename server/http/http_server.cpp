@@ -52,7 +52,7 @@ struct Shared {
   std::mutex limits_mutex;  // the rest: connections and bodies counted against their limits
   std::size_t connections = 0, bodies_in_flight = 0, refused_since_log = 0;
   std::map<std::string, std::size_t> per_address;
-  Clock::time_point last_refusal_log{};
+  Clock::time_point last_refusal_log = Clock::now() - std::chrono::hours(1);
 };
 
 // A connection's place within the limits, held by whichever session owns the socket.
@@ -197,6 +197,14 @@ class Session : public std::enable_shared_from_this<Session> {
     });
   }
 
+  // After a handler threw out of Beast (run() caught it), no operation is left to end the
+  // session; its stream's timer closes the socket, and this takes it off the books.
+  void sweep() {
+    asio::post(stream_.get_executor(), [self = shared_from_this()] {
+      if (!self->stream_.socket().is_open()) self->close();
+    });
+  }
+
  private:
   // Runs a step; an exception it lets through is a bug: a 500 for this request and a log line.
   template <class F>
@@ -231,12 +239,10 @@ class Session : public std::enable_shared_from_this<Session> {
 
   bool read_failed(beast::error_code ec) {
     if (!ec) return false;
+    // A timeout has closed the socket already (Beast's stream does): nothing can be answered.
     if (ec == http::error::end_of_stream || ec == asio::error::operation_aborted || ec == asio::error::eof ||
-        ec == asio::error::connection_reset || (ec == beast::error::timeout && !busy_))
+        ec == asio::error::connection_reset || ec == beast::error::timeout)
       close();
-    else if (ec == beast::error::timeout)
-      reply_error(408, "timeout", "the request stopped arriving: nothing for " +
-                                      std::to_string(shared_.options.timeout.count()) + " s");
     else if (ec == http::error::header_limit)
       reply_error(431, "header_too_large", "the request's header exceeds " + std::to_string(kHeaderLimit) + " bytes");
     else if (ec == http::error::body_limit)
@@ -262,6 +268,10 @@ class Session : public std::enable_shared_from_this<Session> {
       request_.headers[name] = std::string(field.value());
     }
     request_.remote = slot_->address();
+    // RFC 9112 §6.3: a request whose codings do not end with chunked has no knowable length; its
+    // bytes must not be read as the next request (smuggling). 400, and the connection goes.
+    if (in.find(http::field::transfer_encoding) != in.end() && !parser_->chunked())
+      return reply_error(400, "bad_request", "Transfer-Encoding must end with chunked");
     if (!split_target(request_.target, request_.path, request_.query))
       return respond(error_response(400, "bad_request", "malformed percent-encoding in the URL"), false);
     // An upgrade is judged by the WebSocket acceptor (its own paths and key); anything else by the router.
@@ -406,7 +416,9 @@ class Session : public std::enable_shared_from_this<Session> {
   beast::tcp_stream stream_;
   Shared& shared_;
   std::shared_ptr<ConnectionSlot> slot_;
-  beast::flat_buffer buffer_;
+  // Bytes not parsed yet. Capped: Beast parses a chunked body's trailer with no header limit and
+  // throws on a field over 64 KiB; a trailer that does not fit here is a 400 instead.
+  beast::flat_buffer buffer_{2 * kHeaderLimit};
   std::optional<http::request_parser<http::string_body>> parser_;
   HttpRequest request_;
   std::string method_ = "OTHER", route_ = "unmatched";
@@ -426,7 +438,24 @@ struct HttpServer::Impl {
       : shared{router, std::move(options)},
         io(std::max(1, shared.options.threads)),
         acceptor(asio::make_strand(io)),
-        retry(acceptor.get_executor()) {}
+        retry(acceptor.get_executor()),
+        sweeper(acceptor.get_executor()) {}
+
+  // Every few seconds, sessions whose socket is gone without a handler to notice are dropped.
+  void sweep_later() {
+    sweeper.expires_after(std::chrono::seconds(5));
+    sweeper.async_wait([this](beast::error_code ec) {
+      if (ec) return;
+      std::set<std::shared_ptr<Session>> sessions;
+      {
+        std::lock_guard lock(shared.mutex);
+        if (shared.stopping) return;
+        sessions = shared.sessions;
+      }
+      for (const auto& s : sessions) s->sweep();
+      sweep_later();
+    });
+  }
 
   void accept() {
     acceptor.async_accept(asio::make_strand(io), [this](beast::error_code ec, tcp::socket socket) {
@@ -477,24 +506,27 @@ struct HttpServer::Impl {
     static const std::string reply = "HTTP/1.1 503 Service Unavailable\r\nServer: salientd\r\nContent-Type: "
                                      "application/json\r\nRetry-After: 5\r\nConnection: close\r\nContent-Length: " +
                                      std::to_string(body.size()) + "\r\n\r\n" + body;
+    {
+      std::lock_guard lock(shared.limits_mutex);
+      ++shared.refused_since_log;
+      if (Clock::now() - shared.last_refusal_log >= std::chrono::seconds(10)) {
+        shared.log("http refusing connections: " + why + " is reached; " + std::to_string(shared.refused_since_log) +
+                   " refused (503) since the last such line");
+        shared.refused_since_log = 0;
+        shared.last_refusal_log = Clock::now();
+      }
+    }
     beast::error_code ignored;
     socket.non_blocking(true, ignored);
     socket.write_some(asio::buffer(reply), ignored);
     socket.shutdown(tcp::socket::shutdown_both, ignored);
     socket.close(ignored);
-    std::lock_guard lock(shared.limits_mutex);
-    ++shared.refused_since_log;
-    if (Clock::now() - shared.last_refusal_log < std::chrono::seconds(10)) return;
-    shared.log("http refusing connections: " + why + " is reached; " + std::to_string(shared.refused_since_log) +
-               " refused (503) since the last such line");
-    shared.refused_since_log = 0;
-    shared.last_refusal_log = Clock::now();
   }
 
   Shared shared;
   asio::io_context io;
   tcp::acceptor acceptor;
-  asio::steady_timer retry;
+  asio::steady_timer retry, sweeper;
   std::chrono::milliseconds backoff{0};
 };
 
@@ -518,13 +550,28 @@ unsigned short HttpServer::start() {
     throw std::runtime_error("cannot listen on " + impl_->shared.options.address + ":" +
                              std::to_string(impl_->shared.options.port) + ": " + ec.message());
   impl_->accept();
+  impl_->sweep_later();
   return a.local_endpoint().port();
 }
 
 void HttpServer::run() {
+  // An exception out of a handler (Beast throws from inside its parser on some inputs) would end
+  // the daemon: it is logged, and the thread goes back to serving.
+  const auto serve = [this] {
+    for (;;) {
+      try {
+        impl_->io.run();
+        return;
+      } catch (const std::exception& e) {
+        impl_->shared.log(std::string("http internal error (a handler threw): ") + e.what());
+      } catch (...) {
+        impl_->shared.log("http internal error (a handler threw)");
+      }
+    }
+  };
   std::vector<std::thread> extra;
-  for (int i = 1; i < impl_->shared.options.threads; ++i) extra.emplace_back([this] { impl_->io.run(); });
-  impl_->io.run();
+  for (int i = 1; i < impl_->shared.options.threads; ++i) extra.emplace_back(serve);
+  serve();
   for (auto& t : extra) t.join();
 }
 
@@ -533,6 +580,7 @@ void HttpServer::stop() {
     beast::error_code ec;
     impl_->acceptor.close(ec);
     impl_->retry.cancel();
+    impl_->sweeper.cancel();
   });
   std::set<std::shared_ptr<Session>> sessions;
   std::set<std::shared_ptr<WsSession>> websockets;
