@@ -16,7 +16,10 @@
 #include "protocol/marlin/marlin_session.hpp"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <iterator>
+#include <optional>
 #include <utility>
 
 #include "protocol/marlin/line_codec.hpp"
@@ -31,6 +34,16 @@ std::string_view code_of(std::string_view command) { return command.substr(0, co
 bool waits_for_heat(std::string_view command) {
   const std::string_view c = code_of(command);
   return c == "M109" || c == "M190" || c == "M191";
+}
+
+std::optional<double> word_value(std::string_view c, char letter) {
+  for (std::size_t at = c.find(letter); at != std::string_view::npos; at = c.find(letter, at + 1)) {
+    if (at > 0 && c[at - 1] != ' ') continue;
+    double v = 0;
+    const auto [ptr, ec] = std::from_chars(c.data() + at + 1, c.data() + c.size(), v);
+    if (ec == std::errc() && ptr != c.data() + at + 1) return v;
+  }
+  return std::nullopt;
 }
 
 // Commands whose ok comes when the work is done, which may take seconds to minutes.
@@ -97,7 +110,7 @@ void MarlinSession::cancel(const std::vector<std::string>& cleanup, Millis now) 
   // A heating wait in flight would hold the cleanup (heaters off!) until the target is reached.
   const bool heating = std::any_of(in_flight_.begin(), in_flight_.end(), [](const InFlight& f) { return f.waits_for_heat; });
   if (heating && config_.emergency_parser) {
-    output_ += "M108\n";  // Marlin's emergency parser ends the wait at once
+    break_heating_wait(now);
   } else if (heating) {
     output_ += "M112\n";  // no other way to stop it: the firmware halts, heaters off
     halted_ = true;
@@ -107,6 +120,15 @@ void MarlinSession::cancel(const std::vector<std::string>& cleanup, Millis now) 
   }
   last_heard_ = std::max(last_heard_, now);  // the cleanup's silence limit counts from the cancel
   pump(now);
+}
+
+// Marlin's emergency parser ends the wait under way when M108 arrives (and queues the line too,
+// which is answered with an ok: so it goes numbered, and the oks stay in step). A wait that had
+// not begun yet (M109 queued behind M190) is not ended by it: M108 goes again every 500 ms while a
+// heating wait is in flight.
+void MarlinSession::break_heating_wait(Millis now) {
+  send_numbered("M108", false, now);
+  next_m108_ = now + Millis(500);
 }
 
 void MarlinSession::emergency_stop() {
@@ -123,10 +145,41 @@ void MarlinSession::send_numbered(const std::string& command, bool counts, Milli
   sent_[line] = {command, counts};
   while (sent_.size() > 256) sent_.erase(sent_.begin());  // Marlin only asks for recent lines
   const bool was_empty = in_flight_.empty();
+  if (line >= resent_below_ && !(is_m105(command) && !counts)) {  // the first time it goes: the machine's state moves
+    recent_moves_.push_back(motion_.duration_of(command));
+    if (recent_moves_.size() > kPlannerDepth) recent_moves_.pop_front();
+  }
   in_flight_.push_back(
       {line, framed.size(), counts, is_m105(command), is_slow(command), waits_for_heat(command), line < resent_below_, now});
   bytes_in_flight_ += framed.size();
   if (was_empty && !synchronising_) reply_deadline_ = now + timeout_for_front();
+}
+
+// How long a command keeps the machine busy at least: a move's length at its feed rate, with the
+// time to accelerate (at a modest 500 mm/s²) for short ones. Modal state as Marlin keeps it.
+Millis MarlinSession::Motion::duration_of(std::string_view c) {
+  const std::string_view code = code_of(c);
+  if (code == "G90") relative = false;
+  else if (code == "G91") relative = true;
+  else if (code == "G92") {
+    for (int i = 0; i < 4; ++i)
+      if (auto v = word_value(c, "XYZE"[i])) pos[i] = *v;
+  }
+  if (code != "G0" && code != "G1" && code != "G2" && code != "G3") return Millis(0);
+  if (auto f = word_value(c, 'F'); f && *f > 0) feed = *f / 60;
+  double d2 = 0, e = 0;
+  for (int i = 0; i < 4; ++i) {
+    const auto v = word_value(c, "XYZE"[i]);
+    if (!v) continue;
+    const double to = relative ? pos[i] + *v : *v;
+    if (i < 3) d2 += (to - pos[i]) * (to - pos[i]);
+    else e = std::fabs(to - pos[i]);
+    pos[i] = to;
+  }
+  double d = d2 > 0 ? std::sqrt(d2) : e;
+  if (code == "G2" || code == "G3") d *= 1.6;  // an arc is longer than its chord (up to π/2 for a half circle)
+  const double seconds = std::max(d / feed, 2 * std::sqrt(d / 500.0));
+  return Millis(static_cast<long long>(std::ceil(seconds * 1000)));
 }
 
 Millis MarlinSession::timeout_for_front() const {
@@ -136,8 +189,11 @@ Millis MarlinSession::timeout_for_front() const {
   // a printer slow from its first line is not poked while it is being learned.
   if (!have_rtt_) return config_.reply_timeout;
   const double rto = srtt_ms_ + std::max(10.0, 4 * rttvar_ms_);
-  return std::clamp(Millis(static_cast<long long>(rto)), std::min(config_.min_reply_timeout, config_.reply_timeout),
-                    config_.reply_timeout);
+  // With the planner full, an ok waits for the oldest queued move to end: the longest of the
+  // moves sent lately is added, so that a long travel is not taken for a lost ok.
+  const Millis busy = recent_moves_.empty() ? Millis(0) : *std::max_element(recent_moves_.begin(), recent_moves_.end());
+  return std::clamp(Millis(static_cast<long long>(rto)) + busy,
+                    std::min(config_.min_reply_timeout, config_.reply_timeout) + busy, config_.reply_timeout);
 }
 
 void MarlinSession::sample_reply_time(Millis sample) {
@@ -335,6 +391,11 @@ void MarlinSession::on_tick(Millis now) {
         ++resend_oks_missed_ >= 2)
       expect_ok_after_resend_ = false;
     pump(now);
+  }
+  if (state_ == SessionState::cancelled && now >= next_m108_) {
+    const bool heating = std::any_of(in_flight_.begin(), in_flight_.end(), [](const InFlight& f) { return f.waits_for_heat; });
+    if (heating) break_heating_wait(now);
+    else next_m108_ = Millis::max();
   }
   check_silence(now);
   if (state_ == SessionState::failed || now < reply_deadline_ || in_flight_.empty()) return;

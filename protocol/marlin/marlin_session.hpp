@@ -79,7 +79,7 @@ class MarlinSession {
 
   std::string take_output();
   std::vector<SessionEvent> take_events();
-  Millis deadline() const { return std::min(reply_deadline_, resend_ok_deadline_); }
+  Millis deadline() const { return std::min({reply_deadline_, resend_ok_deadline_, next_m108_}); }
   SessionState state() const { return state_; }
   bool idle() const { return queue_.empty() && in_flight_.empty(); }  // nothing left to send or confirm
   std::size_t commands_done() const { return done_; }
@@ -110,6 +110,7 @@ class MarlinSession {
   Millis timeout_for_front() const;  // how long the oldest line in flight may go unanswered
   void sample_reply_time(Millis sample);
   void check_silence(Millis now);
+  void break_heating_wait(Millis now);
 
   SessionConfig config_;
   SessionState state_ = SessionState::idle;
@@ -136,7 +137,19 @@ class MarlinSession {
   double srtt_ms_ = 0, rttvar_ms_ = 0;
   Millis poke_wait_{0}, last_heard_{0};
   bool halted_ = false;
+  Millis next_m108_{Millis::max()};  // a cancel during a heating wait: when M108 goes again
   long long resent_below_ = -1;  // lines numbered below this, sent after a rewind, are resends
+  // What the machine is busy with: the least time of each command sent lately, as many as a
+  // planner holds (Marlin's BLOCK_BUFFER_SIZE 16, plus its BUFSIZE 4).
+  struct Motion {
+    double pos[4] = {0, 0, 0, 0};
+    double feed = 25;  // mm/s
+    bool relative = false;
+    Millis duration_of(std::string_view command);
+  };
+  static constexpr std::size_t kPlannerDepth = 20;
+  Motion motion_;
+  std::deque<Millis> recent_moves_;
   std::string partial_, output_;
   std::vector<SessionEvent> events_;
 };

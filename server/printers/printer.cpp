@@ -246,7 +246,9 @@ void Printer::emergency_stop() {
   {
     std::lock_guard lock(mutex_);
     if (!link_) conflict(config_.id, not_ready(state_, error_));
-    if (state_ == "printing" || state_ == "paused" || state_ == "cancelling") link_->emergency_stop();
+    // At once into whatever the link is streaming (a print, or console commands such as a long
+    // G28); between them, the thread sends it within its next 100 ms.
+    if (state_ == "printing" || state_ == "paused" || state_ == "cancelling" || commands_running_) link_->emergency_stop();
     else estop_wanted_ = true;
   }
   wake_.notify_all();
@@ -258,6 +260,9 @@ void Printer::command(const std::vector<std::string>& commands) {
     if (state_ != "operational" || print_wanted_)
       conflict(config_.id, state_ == "printing" || state_ == "paused" ? "is " + state_ + ": commands go between prints"
                                                                       : not_ready(state_, error_));
+    if (commands_wanted_.size() >= 16)
+      throw ApiError(429, "busy", "printer " + config_.id + " has 16 command batches waiting: try again shortly")
+          .with_header("Retry-After", "2");
     commands_wanted_.push_back(commands);
   }
   wake_.notify_all();
@@ -307,15 +312,27 @@ void Printer::run() {
       commands = std::move(commands_wanted_.front());
       commands_wanted_.erase(commands_wanted_.begin());
     }
+    commands_running_ = !commands.empty();
     lock.unlock();
     try {
       if (!commands.empty()) {
         const serial::PrintResult r = link_->print(commands, on_event);
+        {
+          std::lock_guard done(mutex_);
+          commands_running_ = false;
+        }
         if (r.disconnected) close_link("error", r.reason);
+        else if (r.state == marlin::SessionState::failed)
+          close_link("error", r.reason == "emergency stop" ? "emergency stop (M112): the firmware halted; connect again to go on"
+                                                           : r.reason);
       } else {
         link_->idle(std::chrono::milliseconds(100), on_event);
       }
     } catch (const serial::LinkError& e) {
+      {
+        std::lock_guard done(mutex_);
+        commands_running_ = false;
+      }
       close_link("error", e.what());
     }
   }

@@ -105,6 +105,7 @@ class Printer {
   std::thread thread_;
   bool stopping_ = false, connect_wanted_ = false, disconnect_wanted_ = false, estop_wanted_ = false;
   bool cancel_requested_ = false;  // the running print was cancelled (not failed) by a request
+  bool commands_running_ = false;  // console commands are being streamed
   std::optional<PrintRequest> print_wanted_;
   long long print_wanted_id_ = 0;
   std::vector<std::vector<std::string>> commands_wanted_;
