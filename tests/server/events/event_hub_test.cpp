@@ -145,3 +145,44 @@ TEST_CASE("publishers on many threads: each subscriber sees every state change, 
   subs.front()->closed();
   CHECK(hub.subscribers() == 19);
 }
+
+TEST_CASE("a subscribe list is folded, and replies and snapshots count against the client's bound") {
+  EventHub hub({8, 64});
+  int snapshots = 0;
+  hub.set_snapshot([&](const std::string& topic) {
+    ++snapshots;
+    return std::vector<std::pair<std::string, std::string>>{{"printer", "{\"id\":\"" + topic + "\"}"}};
+  });
+  auto s = hub.subscribe();
+  json many = json::array();
+  for (int i = 0; i < 5200; ++i) many.push_back("printers");
+  s->receive(json{{"subscribe", many}}.dump());
+  CHECK(snapshots == 1);       // one topic, one snapshot
+  CHECK(s->pending() == 2);    // that snapshot and the reply
+  s->receive(json{{"subscribe", {"printers"}}}.dump());
+  CHECK(snapshots == 1);       // subscribed already: no second snapshot
+  for (int i = 0; i < 100 && s->close_reason().empty(); ++i) s->receive(R"({"subscribe": ["printers"]})");
+  CHECK(s->close_reason().find("too slow") != std::string::npos);  // never read: cut off, not grown
+  CHECK(s->pending() == 0);
+  // Bytes count too: a few big state changes fill the byte bound before the count bound.
+  EventHubOptions small;
+  small.byte_limit = 1 << 16;
+  EventHub bytes(small);
+  auto b = bytes.subscribe();
+  REQUIRE(b->subscribe("jobs"));
+  const std::string big = "\"" + std::string(20000, 'x') + "\"";
+  for (int i = 0; i < 5; ++i) bytes.publish({"jobs", "job/j"}, "job", big);
+  CHECK(b->close_reason().find("MiB waiting") != std::string::npos);
+}
+
+TEST_CASE("deep or broken subscription messages are refused while parsing, and any bytes echo safely") {
+  EventHub hub;
+  auto s = hub.subscribe();
+  s->receive(std::string(80000, '[') + std::string(80000, ']'));
+  auto got = drain(*s);
+  REQUIRE(got.size() == 1);
+  CHECK(got[0]["data"]["message"].get<std::string>().find("nested deeper") != std::string::npos);
+  s->receive("{\"subscribe\": [\"job/\xff\xfe\"]}");
+  s->receive("{\"\xc0\xaf\": 1}");
+  CHECK(drain(*s).size() == 2);  // both errors are valid JSON (drain parses them)
+}

@@ -2,6 +2,7 @@
 #include <doctest/doctest.h>
 
 #include <chrono>
+#include <filesystem>
 #include <fstream>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -123,6 +124,9 @@ TEST_CASE("submit refuses bad settings (400), unknown formats (415), unreadable 
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"([[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]])"); }) == 400);
   CHECK(status_of([&] { service.submit("notes.txt", "hello, this is not a mesh", ""); }) == 415);
   CHECK(status_of([&] { service.submit("broken.obj", model_bytes("invalid/malformed.obj"), ""); }) == 422);
+  // Readable, but nothing printable once repaired: refused at upload, not failed later.
+  CHECK(status_of([&] { service.submit("line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", ""); }) == 422);
+  CHECK(status_of([&] { service.submit("deep.ply", cube, std::string(80000, '[') + std::string(80000, ']')); }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, ""); }) == 200);
   try {
     service.submit("cube.ply", cube, R"({"layers": 3})");
@@ -187,4 +191,29 @@ TEST_CASE("a job with \"segment\" runs SegOpt and reports its decision, progress
   CHECK(seg.at("regions").size() >= 1);
   std::lock_guard lock(m);
   for (std::size_t i = 1; i < progress.size(); ++i) CHECK(progress[i] >= progress[i - 1]);
+}
+
+TEST_CASE("a job cancelled the moment it starts running is never sliced to the end") {
+  const salient::test::ScratchDir dir("jobs-cancel-race");
+  Store store(dir.path);
+  JobService service(store, {});
+  service.start();
+  const std::string cube = model_bytes("cube_binary.ply");
+  for (int round = 0; round < 5; ++round) {
+    const auto submitted = service.submit("cube.ply", cube, "{\"height\": " + std::to_string(10 + round) + "}");
+    const std::string id = submitted.job.id;
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (JobStore(store.db()).get(id)->state == JobState::queued && std::chrono::steady_clock::now() < until) {
+    }
+    CHECK(service.cancel(id));
+    const Job j = wait_finished(store, id);
+    CHECK(j.state == JobState::cancelled);
+    CHECK(!j.result);
+  }
+  service.stop();
+  // Nothing was sliced to the end: the only stored file is the model.
+  std::size_t files = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(dir.path / "files" / "objects"))
+    files += e.is_regular_file() ? 1 : 0;
+  CHECK(files == 1);
 }
