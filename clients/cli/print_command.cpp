@@ -35,7 +35,7 @@ struct PrintOptions {
   unsigned baud = 250000;
   bool reset = false, json = false, quiet = false;
   std::size_t resume_from = 0;
-  double timeout = 10;
+  double timeout = 10, silence = 10;
   std::size_t rx_buffer = 128;
 };
 
@@ -93,7 +93,14 @@ void add_print_command(CLI::App& app, CommandAction& action) {
   cmd->add_option("--resume-from", o->resume_from,
                   "Skip the first N commands (the count confirmed when a print was cut off) after restoring "
                   "temperatures, modes and position");
-  cmd->add_option("--timeout", o->timeout, "Seconds without a reply before poking the printer")->capture_default_str();
+  cmd->add_option("--timeout", o->timeout,
+                  "Longest wait for a reply before poking the printer (the wait adapts to the replies seen, from 0.25 s; "
+                  "homing and heating wait this long)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 3600.0));
+  cmd->add_option("--silence", o->silence, "Seconds of silence after a poke before the print fails (the printer stopped answering)")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 3600.0));
   cmd->add_option("--rx-buffer", o->rx_buffer, "The firmware's receive buffer in bytes (send-ahead never exceeds it)")
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the result as JSON");
@@ -122,6 +129,7 @@ void add_print_command(CLI::App& app, CommandAction& action) {
 
       serial::LinkConfig config;
       config.session.reply_timeout = marlin::Millis(static_cast<long long>(o->timeout * 1000));
+      config.session.silence_limit = marlin::Millis(static_cast<long long>(o->silence * 1000));
       config.session.rx_buffer_bytes = o->rx_buffer;
       auto transport = o->tcp.empty() ? serial::open_serial({o->port, o->baud, true, o->reset}) : serial::open_tcp(o->tcp);
       serial::MarlinLink link(std::move(transport), config);

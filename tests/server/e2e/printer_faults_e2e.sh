@@ -4,10 +4,11 @@
 # SIGTERM stops the daemon within 5 s while it is silent; cancel during a heat-up cuts the heaters
 # at once (M108); an emergency stop during a long console command acts at once and is not
 # replayed on the next connection; the simulator holds none of the daemon's sockets; a kill -9
-# mid-print repeats only a few commands on resume; a deleted job's files are gone.
-#   printer_faults_e2e.sh SALIENTD MODELS_DIR WORKDIR
+# mid-print repeats only a few commands on resume; a deleted job's files are gone; a subscriber to
+# "jobs" is told first of the jobs under way.
+#   printer_faults_e2e.sh SALIENTD SALIENT MODELS_DIR WORKDIR
 set -euo pipefail
-salientd=$1 models=$2 work=$3
+salientd=$1 salient=$2 models=$3 work=$4
 here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 . "$here/../../support/salientd.sh"
@@ -174,5 +175,13 @@ after_both=$(files)
 echo "files: $before before, $with_both with two jobs, $after_one after deleting one, $after_both after both"
 [ "$after_one" -lt "$with_both" ] || fail "deleting a job removed no file"
 [ "$after_both" = "$before" ] || fail "files left after deleting both jobs: $after_both, $before before"
+
+# 7. Subscribing to "jobs" tells first the jobs that are not finished, then "subscribed".
+id=$(submit spot.obj '{"height": 30, "saliency": "spectral", "up": "y"}')
+for _ in $(seq 300); do [ "$(api "$base/api/v1/jobs/$id" | field "['state']")" = running ] && break; sleep 0.1; done
+SALIENT_SERVER=$base SALIENT_API_KEY=$key timeout 3 "$salient" events jobs > jobs-events.jsonl 2>/dev/null || true
+head -1 jobs-events.jsonl | field "['type'] + ' ' + d['data']['id']" | grep -qx "job $id" \
+  || fail "no snapshot of the running job first: $(head -3 jobs-events.jsonl)"
+sed -n 2p jobs-events.jsonl | grep -q '"subscribed"' || fail "not 'subscribed' after the snapshot: $(head -3 jobs-events.jsonl)"
 stop
 echo "ok: printer faults end to end"

@@ -10,7 +10,10 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
 #include <nlohmann/json.hpp>
+#include <algorithm>
+#include <chrono>
 #include <thread>
+#include <vector>
 
 #include "server/events/event_hub.hpp"
 #include "server/http/http_server.hpp"
