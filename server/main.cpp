@@ -8,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <thread>
 
 #include "core/common/input_error.hpp"
@@ -140,8 +141,15 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   server.run();
   // run() returns after stop(), or (a bug) when nothing is left to serve: never exit silently.
   if (!asked) log_line("error: the HTTP server stopped serving without being asked to; stopping");
-  jobs.stop();
+  jobs.stop(std::chrono::milliseconds(0));  // running jobs are told to stop, not waited for yet
   printers.stop();  // a running print is interrupted (heaters off) and can be resumed
+  if (!jobs.stop(std::chrono::seconds(1))) {
+    // A job inside one long solve has not seen its cancel yet. Its row says "running", so it is
+    // re-queued at the next start, as after a crash: nothing to wait for.
+    log_line("stopped (a slicing job was still computing: it will be re-queued at the next start)");
+    std::fflush(stderr);
+    std::_Exit(asked ? 0 : 1);
+  }
   if (!asked) pthread_kill(watcher.native_handle(), SIGUSR2);
   watcher.join();
   log_line("stopped");

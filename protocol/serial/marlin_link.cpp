@@ -10,14 +10,17 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using marlin::Millis;
 
-// Sends an unnumbered command and collects the reply up to its ok; empty on timeout.
-std::vector<marlin::MarlinReply> exchange(Transport& t, const std::string& command, std::chrono::milliseconds timeout) {
+// Sends an unnumbered command and collects the reply up to its ok; empty on timeout, or as soon
+// as `abort` is set (the daemon stops while a silent board is being asked).
+std::vector<marlin::MarlinReply> exchange(Transport& t, const std::string& command, std::chrono::milliseconds timeout,
+                                          const std::atomic<int>& abort, int abort_value) {
   t.write(command + "\n");
   std::vector<marlin::MarlinReply> replies;
   std::string partial;
   const auto until = Clock::now() + timeout;
-  while (Clock::now() < until) {
-    partial += t.read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
+  while (Clock::now() < until && abort.load() != abort_value) {
+    const auto left = std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(50));
+    partial += t.read(std::chrono::duration_cast<std::chrono::microseconds>(left));
     for (std::size_t nl; (nl = partial.find('\n')) != std::string::npos;) {
       replies.push_back(marlin::parse_reply(std::string_view(partial).substr(0, nl)));
       partial.erase(0, nl + 1);
@@ -36,7 +39,8 @@ FirmwareInfo MarlinLink::handshake() {
   transport_->discard_input();
   transport_->write("\n");  // ends whatever half line the firmware may hold
   for (int attempt = 0; attempt < config_.handshake_attempts; ++attempt) {
-    const auto replies = exchange(*transport_, "M115", config_.handshake_timeout);
+    const auto replies = exchange(*transport_, "M115", config_.handshake_timeout, request_, kInterrupt);
+    if (request_.load() == kInterrupt) throw LinkError(transport_->describe() + ": connecting was interrupted");
     if (replies.empty()) continue;
     for (const auto& r : replies) {
       if (r.kind == marlin::ReplyKind::firmware) firmware_.name = r.name;
@@ -45,7 +49,9 @@ FirmwareInfo MarlinLink::handshake() {
     }
     config_.session.emergency_parser = firmware_.emergency_parser;
     if (firmware_.autoreport_temperature && config_.autoreport_seconds > 0)
-      exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout);
+      exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout, request_,
+               kInterrupt);
+    idle_heard_ = Clock::now();
     return firmware_;
   }
   throw LinkError(transport_->describe() + ": no answer to M115 after " + std::to_string(config_.handshake_attempts) +
@@ -61,7 +67,9 @@ void MarlinLink::idle(std::chrono::milliseconds duration, const std::function<vo
     last_poll_ = Clock::now();
   }
   while (Clock::now() < until) {
-    idle_partial_ += transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
+    const std::string bytes = transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
+    if (!bytes.empty()) idle_heard_ = Clock::now();
+    idle_partial_ += bytes;
     for (std::size_t nl; (nl = idle_partial_.find('\n')) != std::string::npos;) {
       const marlin::MarlinReply r = marlin::parse_reply(std::string_view(idle_partial_).substr(0, nl));
       idle_partial_.erase(0, nl + 1);
@@ -75,6 +83,11 @@ void MarlinLink::idle(std::chrono::milliseconds duration, const std::function<vo
     }
     if (idle_partial_.size() > 4096) idle_partial_.clear();  // no newline in 4 KiB: noise
   }
+  // Polled (or auto-reporting) every few seconds: this long without a byte, the board is gone.
+  if (Clock::now() - idle_heard_ > config_.idle_silence_limit)
+    throw LinkError(transport_->describe() + ": the printer stopped answering (nothing heard for " +
+                    std::to_string(std::chrono::duration_cast<std::chrono::seconds>(config_.idle_silence_limit).count()) +
+                    " s between prints)");
 }
 
 PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
@@ -95,6 +108,7 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
     result.pokes = session.pokes_sent();
     result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     result.halted = session.halted();
+    idle_heard_ = Clock::now();  // the print's own replies count for the time between prints
     return result;
   };
   // A daemon that stops gives the printer this long to take the heaters-off lines, then goes.

@@ -23,6 +23,7 @@ struct LinkConfig {
   // Sent after a cancel: heaters and fan off, lift, motors off.
   std::vector<std::string> cancel_gcode = {"M104 S0", "M140 S0", "M107", "G91", "G1 Z5 F600", "G90", "M84"};
   std::chrono::milliseconds interrupt_wait{2000};  // interrupt(): the longest wait for its heaters-off lines
+  std::chrono::milliseconds idle_silence_limit{15000};  // idle(): nothing heard this long is a lost printer
 };
 
 struct FirmwareInfo {
@@ -63,7 +64,7 @@ class MarlinLink {
   void resume() { request_ = kResume; }
   void cancel() { request_ = kCancel; }
   // Stops streaming and turns the heaters off, nothing else (no park, motors stay on): the print
-  // can be resumed later from where it stopped.
+  // can be resumed later from where it stopped. During handshake(): it gives up at once.
   void interrupt() { request_ = kInterrupt; }
   void emergency_stop() { request_ = kEmergency; }
 
@@ -76,7 +77,7 @@ class MarlinLink {
   FirmwareInfo firmware_;
   std::atomic<int> request_{kNone};
   std::string idle_partial_;
-  std::chrono::steady_clock::time_point last_poll_{};
+  std::chrono::steady_clock::time_point last_poll_{}, idle_heard_ = std::chrono::steady_clock::now();
 };
 
 }  // namespace salient::protocol::serial

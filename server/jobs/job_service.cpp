@@ -103,15 +103,19 @@ void JobService::start() {
   for (int i = 0; i < options_.workers; ++i) workers_.emplace_back([this] { work(); });
 }
 
-void JobService::stop() {
+bool JobService::stop(std::optional<std::chrono::milliseconds> grace) {
   {
-    std::lock_guard lock(mutex_);
+    std::unique_lock lock(mutex_);
     stopping_ = true;
     for (auto& [id, token] : running_) token->cancel();
+    wake_.notify_all();
+    // A job notices its cancel at the computation's next check, which one long solve may delay.
+    if (grace && !wake_.wait_for(lock, *grace, [&] { return exited_ == workers_.size(); })) return false;
   }
-  wake_.notify_all();
   for (auto& t : workers_) t.join();
   workers_.clear();
+  exited_ = 0;
+  return true;
 }
 
 void JobService::changed(const std::string& id) {
@@ -171,7 +175,11 @@ void JobService::work() {
     auto token = std::make_shared<core::CancelToken>();
     try {
       std::unique_lock lock(mutex_);
-      if (stopping_) return;
+      if (stopping_) {
+        ++exited_;
+        wake_.notify_all();  // stop() may be waiting for the last worker
+        return;
+      }
       job = JobStore(store_.db()).start_next(now_seconds());
       if (!job) {
         wake_.wait_for(lock, std::chrono::seconds(1));

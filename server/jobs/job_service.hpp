@@ -6,11 +6,13 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -34,7 +36,10 @@ class JobService {
   ~JobService();
 
   void start();  // re-queues what a previous run left running, starts the workers
-  void stop();   // interrupts running jobs (they stay re-queueable) and joins the workers
+  // Interrupts running jobs (they stay re-queueable) and joins the workers. With `grace`, false
+  // when a worker is still inside a computation after it: the caller may then exit without
+  // joining (the job is "running" in the database and is re-queued at the next start).
+  bool stop(std::optional<std::chrono::milliseconds> grace = std::nullopt);
 
   struct Submitted {
     Job job;
@@ -58,6 +63,7 @@ class JobService {
   bool stopping_ = false;
   std::map<std::string, std::shared_ptr<core::CancelToken>> running_;
   std::vector<std::thread> workers_;
+  std::size_t exited_ = 0;  // workers that have left their loop, under mutex_
 };
 
 // File names from clients become "bunny.obj"-like names: letters, digits, '.', '-', '_' only.

@@ -99,6 +99,7 @@ void Printer::stop() {
     if (stopping_ && !thread_.joinable()) return;
     stopping_ = true;
     if (link_ && (state_ == "printing" || state_ == "paused" || state_ == "cancelling")) link_->interrupt();
+    if (connecting_) connecting_->interrupt();  // a silent board would hold the handshake for seconds
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
@@ -356,9 +357,22 @@ void Printer::open_link() {
           if (hooks_.terminal) hooks_.terminal(*this, sent, line);
         });
     auto link = std::make_unique<serial::MarlinLink>(std::move(tap));
-    const serial::FirmwareInfo firmware = link->handshake();
     {
       std::lock_guard lock(mutex_);
+      if (stopping_) link->interrupt();
+      connecting_ = link.get();
+    }
+    serial::FirmwareInfo firmware;
+    try {
+      firmware = link->handshake();
+    } catch (...) {
+      std::lock_guard lock(mutex_);
+      connecting_ = nullptr;
+      throw;
+    }
+    {
+      std::lock_guard lock(mutex_);
+      connecting_ = nullptr;
       sim_ = std::move(sim);
       link_ = std::move(link);
       firmware_ = firmware.name;

@@ -112,6 +112,7 @@ class Printer {
 
   std::unique_ptr<SimProcess> sim_;
   std::unique_ptr<protocol::serial::MarlinLink> link_;  // owned by the thread; pointer read under mutex_
+  protocol::serial::MarlinLink* connecting_ = nullptr;   // during the handshake, under mutex_
 
   // The status, under mutex_.
   std::string state_ = "disconnected", error_, firmware_, device_;

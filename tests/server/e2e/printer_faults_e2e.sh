@@ -184,4 +184,42 @@ head -1 jobs-events.jsonl | field "['type'] + ' ' + d['data']['id']" | grep -qx 
   || fail "no snapshot of the running job first: $(head -3 jobs-events.jsonl)"
 sed -n 2p jobs-events.jsonl | grep -q '"subscribed"' || fail "not 'subscribed' after the snapshot: $(head -3 jobs-events.jsonl)"
 stop
+# 8. Between prints, a board that stops answering is noticed; a daemon connecting to a silent one stops at once.
+sim_config idle.toml "--time-scale 0 --heat-time-scale 0 --faults silent-after=3"
+start idle.toml
+wait_printer operational
+t0=$SECONDS
+wait_printer error 40
+echo "idle printer gone silent: error after $((SECONDS - t0)) s: $(printer "['error']")"
+printer "['error']" | grep -q "stopped answering" || fail "error: $(printer "['error']")"
+stop
+python3 -c "
+import socket, time
+s = socket.socket(); s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1); s.bind(('127.0.0.1', 0)); s.listen(4)
+open('bridge.port', 'w').write(str(s.getsockname()[1]))
+conns = []
+end = time.time() + 60
+while time.time() < end:
+    s.settimeout(1)
+    try: conns.append(s.accept()[0])  # accepts, reads nothing, says nothing
+    except socket.timeout: pass
+" &
+bridge=$!
+for _ in $(seq 50); do [ -s bridge.port ] && break; sleep 0.1; done
+cat > tcp.toml <<TOML
+[[printers]]
+id = "sim"
+kind = "tcp"
+port = "127.0.0.1:$(cat bridge.port)"
+TOML
+start tcp.toml
+sleep 1  # the handshake waits for an answer that never comes
+[ "$(printer "['state']")" = connecting ] || fail "not connecting: $(printer "['state']")"
+t0=$(date +%s.%N)
+kill -TERM "$pid"
+wait "$pid" || fail "salientd exited with an error after SIGTERM"
+pid=
+kill "$bridge" 2>/dev/null || true
+python3 -c "import sys; t=float(sys.argv[2])-float(sys.argv[1]); print(f'SIGTERM while connecting to a silent board (and a job slicing): stopped in {t:.1f} s'); sys.exit(t > 5)" \
+  "$t0" "$(date +%s.%N)" || fail "SIGTERM waited for the handshake"
 echo "ok: printer faults end to end"
