@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <toml++/toml.h>
 
@@ -28,6 +29,15 @@ class TableReader {
       if (!v) fail(*n, key, "must be a number");
       if (!std::isfinite(*v) || (positive && *v <= 0) || (!positive && *v < 0))
         fail(*n, key, positive ? "must be a positive number" : "must not be negative");
+      out = *v;
+    }
+  }
+  // A number within [min, max] (units are the caller's: the message names the key).
+  void number(const char* key, double& out, double min, double max) {
+    if (const toml::node* n = find(key)) {
+      const auto v = n->value<double>();
+      if (!v) fail(*n, key, "must be a number");
+      if (!(*v >= min && *v <= max)) fail(*n, key, "must be between " + trimmed(min) + " and " + trimmed(max));
       out = *v;
     }
   }
@@ -76,6 +86,11 @@ class TableReader {
   }
 
  private:
+  static std::string trimmed(double v) {
+    std::ostringstream out;
+    out << v;
+    return out.str();
+  }
   const toml::node* find(const char* key) {
     seen_.insert(key);
     return table_.get(key);

@@ -23,13 +23,13 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
   core::read_section(top, "server", source, [&](TableReader& r) {
     r.text("listen", c.listen);
     r.text("data", c.data_dir);
-    r.number("max_upload_mb", upload_mb);
-    r.number("max_json_kb", json_kb);
+    r.number("max_upload_mb", upload_mb, 0.001, 65536.0);
+    r.number("max_json_kb", json_kb, 1.0, 1048576.0);
     r.integer("max_json_depth", c.max_json_depth, 1, 1000);
-    r.number("request_timeout_seconds", c.request_timeout_seconds);
+    r.number("request_timeout_seconds", c.request_timeout_seconds, 1.0, 86400.0);
     r.integer("max_connections", c.max_connections, 1, 1000000);
     r.integer("max_connections_per_address", c.max_connections_per_address, 1, 1000000);
-    r.number("max_bodies_in_flight_mb", in_flight_mb);
+    r.number("max_bodies_in_flight_mb", in_flight_mb, 0.001, 1048576.0);
   });
   if (!(in_flight_mb >= upload_mb))
     throw InputError(source, {}, "'server.max_bodies_in_flight_mb' must be at least 'server.max_upload_mb'");

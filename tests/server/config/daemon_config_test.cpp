@@ -16,6 +16,10 @@ TEST_CASE("the shipped config/salientd.toml is exactly the embedded defaults") {
   CHECK(shipped.max_json_depth == d.max_json_depth);
   CHECK(shipped.workers == d.workers);
   CHECK(shipped.queue_limit == d.queue_limit);
+  CHECK(shipped.request_timeout_seconds == d.request_timeout_seconds);
+  CHECK(shipped.max_connections == d.max_connections);
+  CHECK(shipped.max_connections_per_address == d.max_connections_per_address);
+  CHECK(shipped.max_bodies_in_flight_bytes == d.max_bodies_in_flight_bytes);
   REQUIRE(shipped.printers.size() == 1);
   CHECK(shipped.printers[0].id == "sim");
   CHECK(shipped.printers[0].kind == "sim");
@@ -63,6 +67,12 @@ TEST_CASE("mistakes name the file, the line and the key") {
   CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"../x\"\n", "d.toml"),
                        doctest::Contains("'printers.id' must be lower-case letters"), InputError);
   CHECK_THROWS_WITH_AS(parse_daemon_config("colour = 1\n", "d.toml"), "d.toml:1: unknown key 'colour'", InputError);
+  // Found by config_fuzz: a huge number was cast to a size (undefined behaviour), now it is refused.
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[server]\nmax_json_kb = 1e300\n", "d.toml"),
+                       "d.toml:2: 'server.max_json_kb' must be between 1 and 1.04858e+06", InputError);
+  CHECK_THROWS_AS(parse_daemon_config("[server]\nrequest_timeout_seconds = 0.1\n", "d.toml"), InputError);
+  CHECK_THROWS_AS(parse_daemon_config("[server]\nmax_connections = 0\n", "d.toml"), InputError);
+  CHECK_THROWS_AS(parse_daemon_config("[server]\nmax_upload_mb = 100\nmax_bodies_in_flight_mb = 50\n", "d.toml"), InputError);
   CHECK_THROWS_AS(parse_daemon_config("[server\n", "d.toml"), InputError);
   CHECK_THROWS_WITH_AS(load_daemon_config("/no/such/salientd.toml"), "/no/such/salientd.toml: cannot open for reading", InputError);
 }
