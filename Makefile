@@ -2,7 +2,9 @@
 #   make run            install missing Debian packages, build, start salientd (data in ./var)
 #   make test           install, build (Release), run the whole test suite
 #   make test-sanitize  the same suite under AddressSanitizer + UndefinedBehaviorSanitizer
-#   make fuzz           libFuzzer (clang) on FUZZ_TARGET (mesh_reader_fuzz, gcode_fuzz, toolpath_fuzz, line_codec_fuzz)
+#   make fuzz           libFuzzer (clang) on FUZZ_TARGET (mesh_reader_fuzz, gcode_fuzz, toolpath_fuzz, line_codec_fuzz,
+#                       marlin_session_fuzz, sim_firmware_fuzz, http_request_fuzz, multipart_fuzz, settings_fuzz,
+#                       ws_message_fuzz, config_fuzz, gcode_upload_fuzz)
 #   make bench          build and run the benchmarks in tests/bench
 SHELL := /bin/bash
 BUILD ?= build
@@ -51,9 +53,10 @@ fuzz: deps
 	  -DSALIENT_FUZZ=ON -DSALIENT_BENCH=OFF $(CMAKE_FLAGS)
 	cmake --build $(BUILD_FUZZ) -j $(JOBS) --target $(FUZZ_TARGET)
 	mkdir -p $(BUILD_FUZZ)/corpus/$(FUZZ_TARGET) && cp -n $(MODELS)/*.* $(MODELS)/invalid/* config/printers/* \
-	  $(BUILD_FUZZ)/corpus/$(FUZZ_TARGET)/ 2>/dev/null || true
-	$(BUILD_FUZZ)/tests/fuzz/$(FUZZ_TARGET) -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=30 \
-	  -rss_limit_mb=2048 -print_final_stats=1 $(BUILD_FUZZ)/corpus/$(FUZZ_TARGET)
+	  config/salientd.toml $(wildcard tests/fuzz/seeds/$(FUZZ_TARGET)/*) $(BUILD_FUZZ)/corpus/$(FUZZ_TARGET)/ 2>/dev/null || true
+	UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1 $(BUILD_FUZZ)/tests/fuzz/$(FUZZ_TARGET) \
+	  -max_total_time=$(FUZZ_SECONDS) -max_len=65536 -timeout=30 -rss_limit_mb=2048 -print_final_stats=1 \
+	  $(BUILD_FUZZ)/corpus/$(FUZZ_TARGET)
 
 bench: build
 	bash tests/bench/run_benchmarks.sh $(BUILD)

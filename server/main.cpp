@@ -16,8 +16,8 @@
 #include "server/api/routes.hpp"
 #include "server/build_info.hpp"
 #include "server/config/daemon_config.hpp"
-#include "server/http/http_server.hpp"
 #include "server/events/event_hub.hpp"
+#include "server/http/http_server.hpp"
 #include "server/jobs/job_service.hpp"
 #include "server/metrics/metrics.hpp"
 #include "server/printers/printer_service.hpp"
@@ -58,14 +58,15 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   if (!data.empty()) config.data_dir = data;
   if (!listen.empty()) config.listen = listen;
   const std::size_t colon = config.listen.rfind(':');
-  if (colon == std::string::npos) throw salient::core::InputError("--listen", {}, "expected ADDRESS:PORT, got '" + config.listen + "'");
+  if (colon == std::string::npos)
+    throw salient::core::InputError("--listen", {}, "expected ADDRESS:PORT, got '" + config.listen + "'");
   HttpServerOptions http;
   http.address = config.listen.substr(0, colon);
-  try {
-    http.port = static_cast<unsigned short>(std::stoi(config.listen.substr(colon + 1)));
-  } catch (const std::exception&) {
-    throw salient::core::InputError("--listen", {}, "'" + config.listen.substr(colon + 1) + "' is not a port");
-  }
+  const std::string port_text = config.listen.substr(colon + 1);
+  if (port_text.empty() || port_text.size() > 5 || port_text.find_first_not_of("0123456789") != std::string::npos ||
+      std::stoi(port_text) > 65535)
+    throw salient::core::InputError("--listen", {}, "'" + port_text + "' is not a port (0 to 65535)");
+  http.port = static_cast<unsigned short>(std::stoi(port_text));
   http.body_limit = config.max_upload_bytes;
   http.timeout = std::chrono::seconds(std::max(1L, static_cast<long>(config.request_timeout_seconds)));
   http.max_connections = static_cast<std::size_t>(config.max_connections);
@@ -73,7 +74,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   http.max_bodies_in_flight = config.max_bodies_in_flight_bytes;
   http.log = log_line;
   Metrics metrics;
-  http.on_response = [&metrics](const std::string& method, const std::string& route, int status, double seconds) {
+  http.on_response = [&metrics](const std::string& method, const std::string& route, int status,
+                                double seconds) {
     metrics.http_response(method, route, status, seconds);
     log_line("http method=" + method + " route=" + route + " status=" + std::to_string(status) +
              " ms=" + std::to_string(static_cast<int>(seconds * 1000)));
@@ -98,7 +100,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   PrinterService printers(config, store, hub);
   hub.set_snapshot(event_snapshots(store, printers));
   const auto publish_job = job_event_publisher(hub);
-  JobService jobs(store, {config.workers, config.queue_limit, static_cast<std::size_t>(config.max_json_depth)},
+  JobService jobs(store,
+                  {config.workers, config.queue_limit, static_cast<std::size_t>(config.max_json_depth)},
                   [&](const Job& j) {
                     publish_job(j);
                     if (finished(j.state) && j.started_at && j.finished_at)
@@ -109,13 +112,15 @@ int serve(const std::string& config_path, const std::string& data, const std::st
                   });
   Router router;
   router.set_authenticator([&keys](const HttpRequest& r) { return keys.valid(r); });
-  router.set_exception_mapper([](const std::exception& e, const std::string& route) -> std::optional<HttpResponse> {
-    log_line("http error route=" + route + " " + e.what());
-    if (const auto* s = dynamic_cast<const StoreError*>(&e); s && s->disk_full())
-      return error_response(507, "insufficient_storage",
-                            "the server's disk is full: nothing was stored; try again when space has been freed");
-    return std::nullopt;
-  });
+  router.set_exception_mapper(
+      [](const std::exception& e, const std::string& route) -> std::optional<HttpResponse> {
+        log_line("http error route=" + route + " " + e.what());
+        if (const auto* s = dynamic_cast<const StoreError*>(&e); s && s->disk_full())
+          return error_response(
+              507, "insufficient_storage",
+              "the server's disk is full: nothing was stored; try again when space has been freed");
+        return std::nullopt;
+      });
   add_system_routes(router);
   add_job_routes(router, store, jobs, config);
   add_printer_routes(router, printers, store, config);
@@ -127,8 +132,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   const unsigned short port = server.start();
   jobs.start();
   printers.start();
-  log_line("salientd " + std::string(version()) + " listening on http://" + http.address + ":" + std::to_string(port) +
-           " data=" + config.data_dir);
+  log_line("salientd " + std::string(version()) + " listening on http://" + http.address + ":" +
+           std::to_string(port) + " data=" + config.data_dir);
   std::atomic<bool> asked{false};
   std::thread watcher([&] {
     int sig = 0;
@@ -142,7 +147,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   // run() returns after stop(), or (a bug) when nothing is left to serve: never exit silently.
   if (!asked) log_line("error: the HTTP server stopped serving without being asked to; stopping");
   jobs.stop(std::chrono::milliseconds(0));  // running jobs are told to stop, not waited for yet
-  printers.stop();  // a running print is interrupted (heaters off) and can be resumed
+  printers.stop();                          // a running print is interrupted (heaters off) and can be resumed
   if (!jobs.stop(std::chrono::seconds(1))) {
     // A job inside one long solve has not seen its cancel yet. Its row says "running", so it is
     // re-queued at the next start, as after a crash: nothing to wait for.
@@ -162,7 +167,8 @@ int main(int argc, char** argv) {
   CLI::App app{"salientd: the salient daemon (REST API, job queue, printers)"};
   app.set_version_flag("--version", "salientd " + std::string(version()));
   std::string config, data, listen;
-  app.add_option("--config", config, "TOML configuration (default: the embedded defaults, see config/salientd.toml)");
+  app.add_option("--config", config,
+                 "TOML configuration (default: the embedded defaults, see config/salientd.toml)");
   app.add_option("--data", data, "Data directory: database, stored files, API key (default: var)");
   app.add_option("--listen", listen, "ADDRESS:PORT to serve (default: 127.0.0.1:8080)");
   try {

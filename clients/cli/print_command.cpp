@@ -28,7 +28,9 @@ namespace marlin = protocol::marlin;
 namespace serial = protocol::serial;
 
 volatile sig_atomic_t interrupts = 0;
-void on_interrupt(int) { interrupts = interrupts + 1; }
+void on_interrupt(int) {
+  interrupts = interrupts + 1;
+}
 
 struct PrintOptions {
   std::string file, port, tcp;
@@ -83,9 +85,11 @@ std::string temperature(const std::optional<double>& t, const std::optional<doub
 
 void add_print_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<PrintOptions>();
-  CLI::App* cmd = app.add_subcommand("print", "Stream a G-code file to a Marlin printer over USB serial or TCP");
+  CLI::App* cmd =
+      app.add_subcommand("print", "Stream a G-code file to a Marlin printer over USB serial or TCP");
   cmd->add_option("FILE", o->file, "G-code file")->required();
-  auto* port = cmd->add_option("--port", o->port, "Serial device (/dev/ttyACM0, or salient-sim's pseudo-terminal)");
+  auto* port =
+      cmd->add_option("--port", o->port, "Serial device (/dev/ttyACM0, or salient-sim's pseudo-terminal)");
   auto* tcp = cmd->add_option("--tcp", o->tcp, "HOST:PORT of a serial-over-TCP bridge (ser2net)");
   port->excludes(tcp);
   cmd->add_option("--baud", o->baud, "Line speed")->capture_default_str();
@@ -94,20 +98,24 @@ void add_print_command(CLI::App& app, CommandAction& action) {
                   "Skip the first N commands (the count confirmed when a print was cut off) after restoring "
                   "temperatures, modes and position");
   cmd->add_option("--timeout", o->timeout,
-                  "Longest wait for a reply before poking the printer (the wait adapts to the replies seen, from 0.25 s; "
+                  "Longest wait for a reply before poking the printer (the wait adapts to the replies seen, "
+                  "from 0.25 s; "
                   "homing and heating wait this long)")
       ->capture_default_str()
       ->check(CLI::Range(0.1, 3600.0));
-  cmd->add_option("--silence", o->silence, "Seconds of silence after a poke before the print fails (the printer stopped answering)")
+  cmd->add_option("--silence", o->silence,
+                  "Seconds of silence after a poke before the print fails (the printer stopped answering)")
       ->capture_default_str()
       ->check(CLI::Range(1.0, 3600.0));
-  cmd->add_option("--rx-buffer", o->rx_buffer, "The firmware's receive buffer in bytes (send-ahead never exceeds it)")
+  cmd->add_option("--rx-buffer", o->rx_buffer,
+                  "The firmware's receive buffer in bytes (send-ahead never exceeds it)")
       ->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the result as JSON");
   cmd->add_flag("--quiet", o->quiet, "No progress line");
   cmd->callback([o, &action] {
     action = [o]() -> int {
-      if (o->port.empty() && o->tcp.empty()) throw core::InputError("--port", {}, "say where the printer is: --port DEV or --tcp HOST:PORT");
+      if (o->port.empty() && o->tcp.empty())
+        throw core::InputError("--port", {}, "say where the printer is: --port DEV or --tcp HOST:PORT");
       const std::string name = std::filesystem::path(o->file).filename().string();
       std::ifstream in(o->file, std::ios::binary);
       if (!in) throw core::InputError(name, {}, "cannot open for reading");
@@ -125,19 +133,22 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       const std::vector<std::size_t> layer_of = command_layers(lines);
       const std::size_t layers = layer_of.empty() ? 0 : layer_of.back() + 1;
       if (o->resume_from > layer_of.size())
-        throw core::InputError("--resume-from", {}, "the file has only " + std::to_string(layer_of.size()) + " commands");
+        throw core::InputError("--resume-from", {},
+                               "the file has only " + std::to_string(layer_of.size()) + " commands");
 
       serial::LinkConfig config;
       config.session.reply_timeout = marlin::Millis(static_cast<long long>(o->timeout * 1000));
       config.session.silence_limit = marlin::Millis(static_cast<long long>(o->silence * 1000));
       config.session.rx_buffer_bytes = o->rx_buffer;
-      auto transport = o->tcp.empty() ? serial::open_serial({o->port, o->baud, true, o->reset}) : serial::open_tcp(o->tcp);
+      auto transport =
+          o->tcp.empty() ? serial::open_serial({o->port, o->baud, true, o->reset}) : serial::open_tcp(o->tcp);
       serial::MarlinLink link(std::move(transport), config);
       const serial::FirmwareInfo fw = link.handshake();
       const bool tty = !o->quiet && !o->json && ::isatty(STDERR_FILENO);
       if (!o->quiet && !o->json)
         std::fprintf(stderr, "salient: %s: %s%s\n", o->tcp.empty() ? o->port.c_str() : o->tcp.c_str(),
-                     fw.name.empty() ? "unnamed firmware" : fw.name.c_str(), fw.emergency_parser ? ", emergency parser" : "");
+                     fw.name.empty() ? "unnamed firmware" : fw.name.c_str(),
+                     fw.emergency_parser ? ", emergency parser" : "");
 
       Progress progress;
       progress.done = o->resume_from;
@@ -145,7 +156,8 @@ void add_print_command(CLI::App& app, CommandAction& action) {
           o->resume_from > 0 ? marlin::resume_prelude(lines, o->resume_from) : std::vector<std::string>{};
       serial::PrintResult result;
       std::atomic<bool> over{false};
-      struct sigaction sa {}, old_int {}, old_term {};
+      struct sigaction sa {
+      }, old_int{}, old_term{};
       sa.sa_handler = on_interrupt;
       interrupts = 0;
       ::sigaction(SIGINT, &sa, &old_int);
@@ -160,8 +172,11 @@ void add_print_command(CLI::App& app, CommandAction& action) {
               if (e.kind == K::resend) ++progress.resends;
               if (e.kind == K::error) progress.last_error = e.text;
               if (e.kind == K::temperatures) {
-                if (e.temperatures.hotend) progress.hotend = e.temperatures.hotend, progress.hotend_target = e.temperatures.hotend_target;
-                if (e.temperatures.bed) progress.bed = e.temperatures.bed, progress.bed_target = e.temperatures.bed_target;
+                if (e.temperatures.hotend)
+                  progress.hotend = e.temperatures.hotend,
+                  progress.hotend_target = e.temperatures.hotend_target;
+                if (e.temperatures.bed)
+                  progress.bed = e.temperatures.bed, progress.bed_target = e.temperatures.bed_target;
               }
             },
             o->resume_from, prelude);
@@ -173,7 +188,9 @@ void add_print_command(CLI::App& app, CommandAction& action) {
         if (interrupts > handled) {
           ++handled;
           if (handled == 1) {
-            if (tty) std::fprintf(stderr, "\nsalient: cancelling: heaters off, head lifted (Ctrl-C again: emergency stop)\n");
+            if (tty)
+              std::fprintf(
+                  stderr, "\nsalient: cancelling: heaters off, head lifted (Ctrl-C again: emergency stop)\n");
             link.cancel();
           } else {
             link.emergency_stop();
@@ -185,7 +202,8 @@ void add_print_command(CLI::App& app, CommandAction& action) {
         const std::size_t done = std::min(progress.done, total);
         const std::size_t layer = done < total ? layer_of[done] : (layers ? layers - 1 : 0);
         double left = 0;
-        for (std::size_t l = layer + 1; l < estimate.layer_seconds.size(); ++l) left += estimate.layer_seconds[l];
+        for (std::size_t l = layer + 1; l < estimate.layer_seconds.size(); ++l)
+          left += estimate.layer_seconds[l];
         if (layer < estimate.layer_seconds.size()) {
           std::size_t first = done, last = done;
           while (first > 0 && layer_of[first - 1] == layer) --first;
@@ -195,9 +213,10 @@ void add_print_command(CLI::App& app, CommandAction& action) {
         }
         const int width = 30;
         const int filled = total ? static_cast<int>(width * done / total) : width;
-        std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %zu/%zu  layer %zu/%zu  hotend %s  bed %s  left %s ", filled,
-                     "##############################", width - filled, "", total ? 100.0 * double(done) / double(total) : 100.0,
-                     done, total, layer + 1, layers, temperature(progress.hotend, progress.hotend_target).c_str(),
+        std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %zu/%zu  layer %zu/%zu  hotend %s  bed %s  left %s ",
+                     filled, "##############################", width - filled, "",
+                     total ? 100.0 * double(done) / double(total) : 100.0, done, total, layer + 1, layers,
+                     temperature(progress.hotend, progress.hotend_target).c_str(),
                      temperature(progress.bed, progress.bed_target).c_str(), hms(left).c_str());
         std::fflush(stderr);
       }
@@ -206,24 +225,33 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       ::sigaction(SIGTERM, &old_term, nullptr);
       if (tty) std::fprintf(stderr, "\n");
 
-      const char* state = result.disconnected ? "disconnected"
+      const char* state = result.disconnected                               ? "disconnected"
                           : result.state == marlin::SessionState::finished  ? "finished"
                           : result.state == marlin::SessionState::cancelled ? "cancelled"
                                                                             : "failed";
       if (o->json) {
-        const nlohmann::json j = {{"file", name},          {"state", state},           {"confirmed", result.confirmed},
-                                  {"total", result.total}, {"reason", result.reason},  {"lines_resent", result.lines_resent},
-                                  {"pokes", result.pokes}, {"seconds", result.seconds}, {"firmware", fw.name}};
+        const nlohmann::json j = {{"file", name},
+                                  {"state", state},
+                                  {"confirmed", result.confirmed},
+                                  {"total", result.total},
+                                  {"reason", result.reason},
+                                  {"lines_resent", result.lines_resent},
+                                  {"pokes", result.pokes},
+                                  {"seconds", result.seconds},
+                                  {"firmware", fw.name}};
         std::printf("%s\n", j.dump(2).c_str());
       } else if (result.state == marlin::SessionState::finished) {
-        std::printf("%s: printed %zu commands in %.1f s (%.0f lines/s), %zu lines resent\n", name.c_str(), result.total,
-                    result.seconds, double(result.total - o->resume_from) / std::max(result.seconds, 1e-9), result.lines_resent);
+        std::printf("%s: printed %zu commands in %.1f s (%.0f lines/s), %zu lines resent\n", name.c_str(),
+                    result.total, result.seconds,
+                    double(result.total - o->resume_from) / std::max(result.seconds, 1e-9),
+                    result.lines_resent);
       } else {
-        std::printf("%s: %s after %zu of %zu commands were confirmed: %s\n", name.c_str(), state, result.confirmed, result.total,
-                    result.reason.c_str());
+        std::printf("%s: %s after %zu of %zu commands were confirmed: %s\n", name.c_str(), state,
+                    result.confirmed, result.total, result.reason.c_str());
         if (result.disconnected || result.state == marlin::SessionState::failed)
-          std::printf("to resume: salient print %s %s %s --resume-from %zu\n", o->file.c_str(), o->tcp.empty() ? "--port" : "--tcp",
-                      (o->tcp.empty() ? o->port : o->tcp).c_str(), result.confirmed);
+          std::printf("to resume: salient print %s %s %s --resume-from %zu\n", o->file.c_str(),
+                      o->tcp.empty() ? "--port" : "--tcp", (o->tcp.empty() ? o->port : o->tcp).c_str(),
+                      result.confirmed);
       }
       if (result.state == marlin::SessionState::finished) return 0;
       if (result.state == marlin::SessionState::cancelled) return 130;

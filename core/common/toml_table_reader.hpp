@@ -4,19 +4,22 @@
 // toml++'s types), which also link tomlplusplus.
 #pragma once
 
+#include <toml++/toml.h>
+
 #include <cmath>
 #include <cstdint>
 #include <functional>
 #include <set>
 #include <sstream>
 #include <string>
-#include <toml++/toml.h>
 
 #include "core/common/input_error.hpp"
 
 namespace salient::core {
 
-inline std::uint64_t line_of(const toml::node& node) { return node.source().begin.line; }
+inline std::uint64_t line_of(const toml::node& node) {
+  return node.source().begin.line;
+}
 
 class TableReader {
  public:
@@ -37,7 +40,8 @@ class TableReader {
     if (const toml::node* n = find(key)) {
       const auto v = n->value<double>();
       if (!v) fail(*n, key, "must be a number");
-      if (!(*v >= min && *v <= max)) fail(*n, key, "must be between " + trimmed(min) + " and " + trimmed(max));
+      if (!(*v >= min && *v <= max))
+        fail(*n, key, "must be between " + trimmed(min) + " and " + trimmed(max));
       out = *v;
     }
   }
@@ -46,7 +50,8 @@ class TableReader {
     if (const toml::node* n = find(key)) {
       const auto v = n->value_exact<std::int64_t>();
       if (!v) fail(*n, key, "must be a whole number");
-      if (*v < min || *v > max) fail(*n, key, "must be between " + std::to_string(min) + " and " + std::to_string(max));
+      if (*v < min || *v > max)
+        fail(*n, key, "must be between " + std::to_string(min) + " and " + std::to_string(max));
       out = static_cast<Int>(*v);
     }
   }
@@ -79,7 +84,8 @@ class TableReader {
   void reject_unknown() const {
     for (const auto& [key, node] : table_)
       if (!seen_.count(std::string(key.str())))
-        throw InputError(source_, InputLocation::at_line(line_of(node)), "unknown key '" + prefix_ + std::string(key.str()) + "'");
+        throw InputError(source_, InputLocation::at_line(line_of(node)),
+                         "unknown key '" + prefix_ + std::string(key.str()) + "'");
   }
   [[noreturn]] void fail(const toml::node& n, const char* key, const std::string& what) const {
     throw InputError(source_, InputLocation::at_line(line_of(n)), "'" + prefix_ + key + "' " + what);

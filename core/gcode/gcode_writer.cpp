@@ -36,17 +36,23 @@ std::string fill_template(std::string text, const PrinterProfile& p) {
 }
 
 // Part-cooling fan: Sailfish (MakerBot) has its own M-codes; Marlin and RepRap share M106/M107.
-const char* fan_on(GcodeFlavor f) { return f == GcodeFlavor::sailfish ? "M126 T0" : "M106 S255"; }
-const char* fan_off(GcodeFlavor f) { return f == GcodeFlavor::sailfish ? "M127 T0" : "M107"; }
+const char* fan_on(GcodeFlavor f) {
+  return f == GcodeFlavor::sailfish ? "M126 T0" : "M106 S255";
+}
+const char* fan_off(GcodeFlavor f) {
+  return f == GcodeFlavor::sailfish ? "M127 T0" : "M107";
+}
 
 class LayerWriter {
  public:
-  LayerWriter(const PrinterProfile& p, const GcodeSettings& s, bool relative_e) : p_(p), s_(s), relative_e_(relative_e) {}
+  LayerWriter(const PrinterProfile& p, const GcodeSettings& s, bool relative_e)
+      : p_(p), s_(s), relative_e_(relative_e) {}
 
   std::string write(const LayerToolpaths& layer, std::size_t index) {
     out_.str("");
     const double h = layer.height();
-    out_ << ";LAYER_CHANGE\n;Z:" << fmt("%.3f", layer.z_top) << "\n;HEIGHT:" << fmt("%.3f", h) << "\n;LAYER:" << index << "\n";
+    out_ << ";LAYER_CHANGE\n;Z:" << fmt("%.3f", layer.z_top) << "\n;HEIGHT:" << fmt("%.3f", h)
+         << "\n;LAYER:" << index << "\n";
     if (static_cast<int>(index) == s_.fan_from_layer) out_ << fan_on(p_.flavor) << "\n";
     retract();
     out_ << "G1 Z" << fmt("%.3f", layer.z_top) << " F" << fmt("%.0f", p_.travel_speed * 60) << "\n";
@@ -73,10 +79,13 @@ class LayerWriter {
 
  private:
   void check(const Point2& p) const {
-    const double x0 = p_.origin_at_center ? -p_.bed_width / 2 : 0, y0 = p_.origin_at_center ? -p_.bed_depth / 2 : 0;
-    if (p.x < x0 - 1e-6 || p.x > x0 + p_.bed_width + 1e-6 || p.y < y0 - 1e-6 || p.y > y0 + p_.bed_depth + 1e-6)
-      throw InputError("model", {}, "does not fit on the bed of " + p_.name + ": a path reaches (" + fmt("%.1f", p.x) + ", " +
-                                        fmt("%.1f", p.y) + ")");
+    const double x0 = p_.origin_at_center ? -p_.bed_width / 2 : 0,
+                 y0 = p_.origin_at_center ? -p_.bed_depth / 2 : 0;
+    if (p.x < x0 - 1e-6 || p.x > x0 + p_.bed_width + 1e-6 || p.y < y0 - 1e-6 ||
+        p.y > y0 + p_.bed_depth + 1e-6)
+      throw InputError("model", {},
+                       "does not fit on the bed of " + p_.name + ": a path reaches (" + fmt("%.1f", p.x) +
+                           ", " + fmt("%.1f", p.y) + ")");
   }
   // Combing: a travel that stays inside the part leaves any ooze where it is hidden, so only
   // travels that are long and cross the outline retract.
@@ -84,7 +93,8 @@ class LayerWriter {
     check(to);
     const bool long_travel = std::hypot(to.x - at_.x, to.y - at_.y) > s_.retract_min_travel;
     if (!moved_ || (long_travel && !segment_inside(region, at_, to))) retract();
-    out_ << "G0 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " F" << fmt("%.0f", p_.travel_speed * 60) << "\n";
+    out_ << "G0 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " F"
+         << fmt("%.0f", p_.travel_speed * 60) << "\n";
     at_ = to;
     moved_ = true;
   }
@@ -93,20 +103,22 @@ class LayerWriter {
     const double e = std::hypot(to.x - at_.x, to.y - at_.y) * e_per_mm;
     filament_ += e;
     e_abs_ += e;
-    out_ << "G1 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " E" << fmt("%.5f", relative_e_ ? e : e_abs_)
-         << " F" << fmt("%.0f", speed * 60) << "\n";
+    out_ << "G1 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " E"
+         << fmt("%.5f", relative_e_ ? e : e_abs_) << " F" << fmt("%.0f", speed * 60) << "\n";
     at_ = to;
   }
   void retract() {
     if (retracted_ || p_.retract_length <= 0) return;
     e_abs_ -= p_.retract_length;
-    out_ << "G1 E" << fmt("%.5f", relative_e_ ? -p_.retract_length : e_abs_) << " F" << fmt("%.0f", p_.retract_speed * 60) << "\n";
+    out_ << "G1 E" << fmt("%.5f", relative_e_ ? -p_.retract_length : e_abs_) << " F"
+         << fmt("%.0f", p_.retract_speed * 60) << "\n";
     retracted_ = true;
   }
   void unretract() {
     if (!retracted_) return;
     e_abs_ += p_.retract_length;
-    out_ << "G1 E" << fmt("%.5f", relative_e_ ? p_.retract_length : e_abs_) << " F" << fmt("%.0f", p_.retract_speed * 60) << "\n";
+    out_ << "G1 E" << fmt("%.5f", relative_e_ ? p_.retract_length : e_abs_) << " F"
+         << fmt("%.0f", p_.retract_speed * 60) << "\n";
     retracted_ = false;
   }
 
@@ -129,8 +141,9 @@ double extrusion_area(double w, double h) {
 GcodeResult write_gcode(const std::vector<LayerToolpaths>& layers, const PrinterProfile& printer,
                         const GcodeSettings& settings) {
   if (!layers.empty() && layers.back().z_top > printer.max_height + 1e-6)
-    throw InputError("model", {}, "is " + fmt("%.1f", layers.back().z_top) + " mm tall, the " + printer.name + " prints up to " +
-                                      fmt("%.1f", printer.max_height) + " mm");
+    throw InputError("model", {},
+                     "is " + fmt("%.1f", layers.back().z_top) + " mm tall, the " + printer.name +
+                         " prints up to " + fmt("%.1f", printer.max_height) + " mm");
   const bool relative_e = settings.relative_e && printer.flavor != GcodeFlavor::sailfish;
   LayerWriter writer(printer, settings, relative_e);
   std::vector<std::string> bodies;
@@ -147,7 +160,8 @@ GcodeResult write_gcode(const std::vector<LayerToolpaths>& layers, const Printer
   result.seconds = estimate.seconds;
   // The start code's prime line (and the end code's retraction) count too: the header says what
   // the whole file extrudes.
-  const std::string start = fill_template(printer.start_gcode, printer), end = fill_template(printer.end_gcode, printer);
+  const std::string start = fill_template(printer.start_gcode, printer),
+                    end = fill_template(printer.end_gcode, printer);
   result.filament_mm = writer.filament() + estimate_gcode(start, "start_gcode", limits).filament_mm +
                        estimate_gcode(end, "end_gcode", limits).filament_mm;
   result.layers = layers.size();
@@ -161,21 +175,24 @@ GcodeResult write_gcode(const std::vector<LayerToolpaths>& layers, const Printer
   out << "M73 P0 R" << fmt("%.0f", std::ceil(estimate.seconds / 60)) << "\n";
   if (printer.flavor == GcodeFlavor::marlin) {
     // State the limits we planned with, so the firmware and every estimator use the same ones.
-    out << "M201 X" << fmt("%.0f", limits.max_axis_acceleration[0]) << " Y" << fmt("%.0f", limits.max_axis_acceleration[1])
-        << " Z" << fmt("%.0f", limits.max_axis_acceleration[2]) << " E" << fmt("%.0f", limits.max_axis_acceleration[3]) << "\n";
-    out << "M203 X" << fmt("%.0f", limits.max_feedrate[0]) << " Y" << fmt("%.0f", limits.max_feedrate[1]) << " Z"
-        << fmt("%.0f", limits.max_feedrate[2]) << " E" << fmt("%.0f", limits.max_feedrate[3]) << "\n";
+    out << "M201 X" << fmt("%.0f", limits.max_axis_acceleration[0]) << " Y"
+        << fmt("%.0f", limits.max_axis_acceleration[1]) << " Z"
+        << fmt("%.0f", limits.max_axis_acceleration[2]) << " E"
+        << fmt("%.0f", limits.max_axis_acceleration[3]) << "\n";
+    out << "M203 X" << fmt("%.0f", limits.max_feedrate[0]) << " Y" << fmt("%.0f", limits.max_feedrate[1])
+        << " Z" << fmt("%.0f", limits.max_feedrate[2]) << " E" << fmt("%.0f", limits.max_feedrate[3]) << "\n";
     out << "M204 P" << fmt("%.0f", printer.acceleration) << " R" << fmt("%.0f", printer.acceleration) << " T"
         << fmt("%.0f", printer.acceleration) << "\n";
-    out << "M205 X" << fmt("%.2f", printer.jerk) << " Y" << fmt("%.2f", printer.jerk) << " Z" << fmt("%.2f", limits.jerk[2])
-        << " E" << fmt("%.2f", limits.jerk[3]) << "\n";
+    out << "M205 X" << fmt("%.2f", printer.jerk) << " Y" << fmt("%.2f", printer.jerk) << " Z"
+        << fmt("%.2f", limits.jerk[2]) << " E" << fmt("%.2f", limits.jerk[3]) << "\n";
   }
   out << start;
   out << (relative_e ? "M83\n" : "M82\n") << "G92 E0\n" << fan_off(printer.flavor) << "\n";
   double done = 0;
   for (std::size_t i = 0; i < bodies.size(); ++i) {
     const double percent = estimate.seconds > 0 ? 100 * done / estimate.seconds : 0;
-    out << "M73 P" << fmt("%.0f", std::floor(percent)) << " R" << fmt("%.0f", std::ceil((estimate.seconds - done) / 60)) << "\n";
+    out << "M73 P" << fmt("%.0f", std::floor(percent)) << " R"
+        << fmt("%.0f", std::ceil((estimate.seconds - done) / 60)) << "\n";
     out << bodies[i];
     if (i < estimate.layer_seconds.size()) done += estimate.layer_seconds[i];
   }

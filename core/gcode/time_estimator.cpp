@@ -50,8 +50,9 @@ class Planner {
       double scale = 1;
       for (int k = 0; k < 4; ++k) {
         const double v_exit = p.u[k] * p.speed * factor * scale, v_entry = b.u[k] * b.speed * scale;
-        const double jerk = v_exit > v_entry ? ((v_entry > 0 || v_exit < 0) ? v_exit - v_entry : std::max(v_exit, -v_entry))
-                                             : ((v_entry < 0 || v_exit > 0) ? v_entry - v_exit : std::max(-v_exit, v_entry));
+        const double jerk =
+            v_exit > v_entry ? ((v_entry > 0 || v_exit < 0) ? v_exit - v_entry : std::max(v_exit, -v_entry))
+                             : ((v_entry < 0 || v_exit > 0) ? v_entry - v_exit : std::max(-v_exit, v_entry));
         if (jerk > limits_.jerk[k]) scale *= limits_.jerk[k] / jerk;
       }
       v *= scale;
@@ -132,8 +133,9 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
     GcodeError error;
     const GcodeLine g = parse_gcode_line(line, error);
     if (error != GcodeError::none)
-      cur.fail(error == GcodeError::bad_number ? "malformed number in '" + std::string(line.substr(0, 60)) + "'"
-                                               : "not a G-code word in '" + std::string(line.substr(0, 60)) + "'");
+      cur.fail(error == GcodeError::bad_number
+                   ? "malformed number in '" + std::string(line.substr(0, 60)) + "'"
+                   : "not a G-code word in '" + std::string(line.substr(0, 60)) + "'");
     if (!g.letter) {
       if (g.comment.starts_with("LAYER_CHANGE") || g.comment.starts_with("LAYER:")) {
         // The first mark opens the first layer: moves before it (the start code's homing and prime
@@ -174,7 +176,9 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
       for (int k = 0; k < 4; ++k) b.u[k] = d[k] / span;
       b.speed = feed;
       const bool extruding = d[3] > 0 && length > 0;
-      b.accel = length == 0 ? limits.retract_acceleration : extruding ? limits.acceleration : limits.travel_acceleration;
+      b.accel = length == 0 ? limits.retract_acceleration
+                : extruding ? limits.acceleration
+                            : limits.travel_acceleration;
       for (int k = 0; k < 4; ++k) {
         if (std::fabs(b.u[k]) < 1e-12) continue;
         b.speed = std::min(b.speed, limits.max_feedrate[k] / std::fabs(b.u[k]));
@@ -206,7 +210,8 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
     } else if (g.letter == 'G' && g.number == 28) {
       planner.flush();
       pos[0] = pos[1] = pos[2] = 0;
-    } else if (g.letter == 'M' && (g.number == 109 || g.number == 190 || g.number == 116 || g.number == 400)) {
+    } else if (g.letter == 'M' &&
+               (g.number == 109 || g.number == 190 || g.number == 116 || g.number == 400)) {
       planner.flush();
       if (g.number != 400) ++out.heating_waits;
     } else if (g.letter == 'M' && g.number == 204) {

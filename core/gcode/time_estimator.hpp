@@ -10,11 +10,11 @@
 namespace salient::core {
 
 struct MachineLimits {
-  double acceleration = 1000;          // mm/s², extruding moves (M204 P / S)
-  double travel_acceleration = 1000;   // mm/s², moves without extrusion (M204 T)
-  double retract_acceleration = 1000;  // mm/s², extruder-only moves (M204 R)
-  double jerk[4] = {10, 10, 0.4, 5};   // mm/s, X Y Z E (M205 X Y Z E)
-  double max_feedrate[4] = {500, 500, 12, 120};               // mm/s (M203)
+  double acceleration = 1000;                                  // mm/s², extruding moves (M204 P / S)
+  double travel_acceleration = 1000;                           // mm/s², moves without extrusion (M204 T)
+  double retract_acceleration = 1000;                          // mm/s², extruder-only moves (M204 R)
+  double jerk[4] = {10, 10, 0.4, 5};                           // mm/s, X Y Z E (M205 X Y Z E)
+  double max_feedrate[4] = {500, 500, 12, 120};                // mm/s (M203)
   double max_axis_acceleration[4] = {9000, 9000, 500, 10000};  // mm/s² (M201)
 };
 

@@ -22,7 +22,9 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   const auto metric = parse_metric(o.metric);
   if (!metric) throw InputError("--metric", {}, "expected area or paper, got '" + o.metric + "'");
   auto method = parse_saliency_method(o.saliency);
-  if (!method) throw InputError("--saliency", {}, "expected spectral, lee05, painted or uniform, got '" + o.saliency + "'");
+  if (!method)
+    throw InputError("--saliency", {},
+                     "expected spectral, lee05, painted or uniform, got '" + o.saliency + "'");
   if (!o.saliency_file.empty()) method = SaliencyMethod::painted;
 
   auto s = std::make_unique<PlanningSetup>();
@@ -44,7 +46,8 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
 PlanTarget target_of(const PlanOptions& o, const PlanningSetup& s) {
   if (o.layers) return PlanTarget::count(*o.layers);
   if (o.layer_height)
-    return PlanTarget::count(std::max(1, static_cast<int>(std::lround(s.profile->height() / *o.layer_height))));
+    return PlanTarget::count(
+        std::max(1, static_cast<int>(std::lround(s.profile->height() / *o.layer_height))));
   return PlanTarget::within(s.objective->epsilon(s.rho));
 }
 

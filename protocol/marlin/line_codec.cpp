@@ -1,9 +1,8 @@
 // Marlin line framing (Marlin's GCodeQueue: a line starting with N must carry "*<xor>").
 #include "protocol/marlin/line_codec.hpp"
 
-#include <cstdio>
-
 #include <charconv>
+#include <cstdio>
 
 namespace salient::protocol::marlin {
 namespace {
@@ -52,7 +51,8 @@ std::string unsendable(std::string_view command) {
     if ((c < 0x20 && c != '\t') || c >= 0x7f) {
       char hex[8];
       std::snprintf(hex, sizeof hex, "0x%02X", c);
-      return std::string("byte ") + hex + " at column " + std::to_string(i + 1) + " (not printable ASCII: is it G-code?)";
+      return std::string("byte ") + hex + " at column " + std::to_string(i + 1) +
+             " (not printable ASCII: is it G-code?)";
     }
   }
   return {};

@@ -2,12 +2,12 @@
 // line the way the firmware does. Pure functions: no I/O.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-#include <cstddef>
 
 namespace salient::protocol::marlin {
 

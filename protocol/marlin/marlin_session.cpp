@@ -27,9 +27,13 @@
 namespace salient::protocol::marlin {
 namespace {
 
-bool is_m105(const std::string& command) { return command == "M105" || command.rfind("M105 ", 0) == 0; }
+bool is_m105(const std::string& command) {
+  return command == "M105" || command.rfind("M105 ", 0) == 0;
+}
 
-std::string_view code_of(std::string_view command) { return command.substr(0, command.find(' ')); }
+std::string_view code_of(std::string_view command) {
+  return command.substr(0, command.find(' '));
+}
 
 bool waits_for_heat(std::string_view command) {
   const std::string_view c = code_of(command);
@@ -48,9 +52,9 @@ std::optional<double> word_value(std::string_view c, char letter) {
 
 // Commands whose ok comes when the work is done, which may take seconds to minutes.
 bool is_slow(std::string_view command) {
-  static constexpr std::string_view slow[] = {"G28", "G29", "G30", "G33", "G34", "G35", "G76", "G425", "M48",
-                                              "M109", "M190", "M191", "M303", "M400", "G4", "M600", "M0",
-                                              "M1", "M226", "M116", "M1001"};
+  static constexpr std::string_view slow[] = {"G28",  "G29",  "G30",  "G33",  "G34",  "G35",  "G76",
+                                              "G425", "M48",  "M109", "M190", "M191", "M303", "M400",
+                                              "G4",   "M600", "M0",   "M1",   "M226", "M116", "M1001"};
   const std::string_view c = code_of(command);
   return std::find(std::begin(slow), std::end(slow), c) != std::end(slow);
 }
@@ -108,14 +112,16 @@ void MarlinSession::cancel(const std::vector<std::string>& cleanup, Millis now) 
   }
   state_ = SessionState::cancelled;
   // A heating wait in flight would hold the cleanup (heaters off!) until the target is reached.
-  const bool heating = std::any_of(in_flight_.begin(), in_flight_.end(), [](const InFlight& f) { return f.waits_for_heat; });
+  const bool heating =
+      std::any_of(in_flight_.begin(), in_flight_.end(), [](const InFlight& f) { return f.waits_for_heat; });
   if (heating && config_.emergency_parser) {
     break_heating_wait(now);
   } else if (heating) {
     output_ += "M112\n";  // no other way to stop it: the firmware halts, heaters off
     halted_ = true;
-    fail("cancelled during a heating wait: M112 sent, as the firmware has no EMERGENCY_PARSER to break it; "
-         "reconnect to reset the printer");
+    fail(
+        "cancelled during a heating wait: M112 sent, as the firmware has no EMERGENCY_PARSER to break it; "
+        "reconnect to reset the printer");
     return;
   }
   last_heard_ = std::max(last_heard_, now);  // the cleanup's silence limit counts from the cancel
@@ -145,12 +151,13 @@ void MarlinSession::send_numbered(const std::string& command, bool counts, Milli
   sent_[line] = {command, counts};
   while (sent_.size() > 256) sent_.erase(sent_.begin());  // Marlin only asks for recent lines
   const bool was_empty = in_flight_.empty();
-  if (line >= resent_below_ && !(is_m105(command) && !counts)) {  // the first time it goes: the machine's state moves
+  if (line >= resent_below_ &&
+      !(is_m105(command) && !counts)) {  // the first time it goes: the machine's state moves
     recent_moves_.push_back(motion_.duration_of(command));
     if (recent_moves_.size() > kPlannerDepth) recent_moves_.pop_front();
   }
-  in_flight_.push_back(
-      {line, framed.size(), counts, is_m105(command), is_slow(command), waits_for_heat(command), line < resent_below_, now});
+  in_flight_.push_back({line, framed.size(), counts, is_m105(command), is_slow(command),
+                        waits_for_heat(command), line < resent_below_, now});
   bytes_in_flight_ += framed.size();
   if (was_empty && !synchronising_) reply_deadline_ = now + timeout_for_front();
 }
@@ -159,8 +166,10 @@ void MarlinSession::send_numbered(const std::string& command, bool counts, Milli
 // time to accelerate (at a modest 500 mm/s²) for short ones. Modal state as Marlin keeps it.
 Millis MarlinSession::Motion::duration_of(std::string_view c) {
   const std::string_view code = code_of(c);
-  if (code == "G90") relative = false;
-  else if (code == "G91") relative = true;
+  if (code == "G90")
+    relative = false;
+  else if (code == "G91")
+    relative = true;
   else if (code == "G92") {
     for (int i = 0; i < 4; ++i)
       if (auto v = word_value(c, "XYZE"[i])) pos[i] = *v;
@@ -172,12 +181,15 @@ Millis MarlinSession::Motion::duration_of(std::string_view c) {
     const auto v = word_value(c, "XYZE"[i]);
     if (!v) continue;
     const double to = relative ? pos[i] + *v : *v;
-    if (i < 3) d2 += (to - pos[i]) * (to - pos[i]);
-    else e = std::fabs(to - pos[i]);
+    if (i < 3)
+      d2 += (to - pos[i]) * (to - pos[i]);
+    else
+      e = std::fabs(to - pos[i]);
     pos[i] = to;
   }
   double d = d2 > 0 ? std::sqrt(d2) : e;
-  if (code == "G2" || code == "G3") d *= 1.6;  // an arc is longer than its chord (up to π/2 for a half circle)
+  if (code == "G2" || code == "G3")
+    d *= 1.6;  // an arc is longer than its chord (up to π/2 for a half circle)
   const double seconds = std::max(d / feed, 2 * std::sqrt(d / 500.0));
   return Millis(static_cast<long long>(std::ceil(seconds * 1000)));
 }
@@ -191,7 +203,8 @@ Millis MarlinSession::timeout_for_front() const {
   const double rto = srtt_ms_ + std::max(10.0, 4 * rttvar_ms_);
   // With the planner full, an ok waits for the oldest queued move to end: the longest of the
   // moves sent lately is added, so that a long travel is not taken for a lost ok.
-  const Millis busy = recent_moves_.empty() ? Millis(0) : *std::max_element(recent_moves_.begin(), recent_moves_.end());
+  const Millis busy =
+      recent_moves_.empty() ? Millis(0) : *std::max_element(recent_moves_.begin(), recent_moves_.end());
   return std::clamp(Millis(static_cast<long long>(rto)) + busy,
                     std::min(config_.min_reply_timeout, config_.reply_timeout) + busy, config_.reply_timeout);
 }
@@ -234,7 +247,8 @@ void MarlinSession::acknowledge(Millis now, bool sample) {
   const InFlight f = in_flight_.front();
   in_flight_.pop_front();
   bytes_in_flight_ -= f.bytes;
-  if (f.line >= resend_line_) resend_line_ = -1, resend_count_ = 0, repeats_expected_ = 0;  // past a resent line
+  if (f.line >= resend_line_)
+    resend_line_ = -1, resend_count_ = 0, repeats_expected_ = 0;   // past a resent line
   if (f.reports_temperature && !f.counts) synchronising_ = false;  // our poke is answered
   if (f.counts) {
     ++done_;
@@ -287,6 +301,11 @@ void MarlinSession::handle_resend(long long line, Millis now) {
   if (!advanced_ok_ && expect_ok_after_resend_) {
     if (resend_oks_due_++ == 0) resend_ok_deadline_ = now + config_.resend_ok_wait;
   }
+  // Until "N0 M110 N0" is acknowledged the firmware still counts from the previous numbering (the
+  // last print's, or 0 after a connect): a request then says the M110 line did not take. It goes
+  // again: it resets the count, so sending it twice is always safe. (Found by the soak: a corrupted
+  // M110 failed a print asking for "line 8922", or stalled it for the reply timeout on "Resend: 1".)
+  if (!in_flight_.empty() && in_flight_.front().line == 0 && sent_.count(0)) line = 0;
   // Each line that was in flight behind the bad one draws the same request: repeats.
   if (line == resend_line_ && repeats_expected_ > 0 && !genuine) {
     --repeats_expected_;
@@ -345,7 +364,8 @@ void MarlinSession::handle(const MarlinReply& r, Millis now) {
       break;
     case ReplyKind::error:
       events_.push_back({K::error, 0, r.text, {}});
-      if (r.text.find("hecksum") != std::string::npos) checksum_error_ = true;  // "checksum mismatch", "No Checksum"
+      if (r.text.find("hecksum") != std::string::npos)
+        checksum_error_ = true;  // "checksum mismatch", "No Checksum"
       if (r.fatal) fail(r.text);
       break;
     case ReplyKind::temperature:
@@ -393,15 +413,19 @@ void MarlinSession::on_tick(Millis now) {
     pump(now);
   }
   if (state_ == SessionState::cancelled && now >= next_m108_) {
-    const bool heating = std::any_of(in_flight_.begin(), in_flight_.end(), [](const InFlight& f) { return f.waits_for_heat; });
-    if (heating) break_heating_wait(now);
-    else next_m108_ = Millis::max();
+    const bool heating =
+        std::any_of(in_flight_.begin(), in_flight_.end(), [](const InFlight& f) { return f.waits_for_heat; });
+    if (heating)
+      break_heating_wait(now);
+    else
+      next_m108_ = Millis::max();
   }
   check_silence(now);
   if (state_ == SessionState::failed || now < reply_deadline_ || in_flight_.empty()) return;
   events_.push_back({SessionEvent::Kind::timeout, in_flight_.front().line, "no reply from the printer", {}});
   // The next poke waits twice as long (RFC 6298 §5.5), at most poke_interval.
-  poke_wait_ = poke_wait_.count() == 0 ? timeout_for_front() : std::min(2 * poke_wait_, config_.poke_interval);
+  poke_wait_ =
+      poke_wait_.count() == 0 ? timeout_for_front() : std::min(2 * poke_wait_, config_.poke_interval);
   poke_wait_ = std::max(poke_wait_, Millis(1));  // never a busy loop
   synchronising_ = true;
   repeats_expected_ = 0;
@@ -413,15 +437,21 @@ void MarlinSession::on_tick(Millis now) {
 void MarlinSession::check_silence(Millis now) {
   if (!synchronising_ || in_flight_.empty()) return;
   Millis limit = config_.silence_limit;
-  if (state_ == SessionState::cancelled) limit = std::min(limit, config_.cancel_silence_limit);
-  else if (in_flight_.front().slow) limit += config_.reply_timeout;
+  if (state_ == SessionState::cancelled)
+    limit = std::min(limit, config_.cancel_silence_limit);
+  else if (in_flight_.front().slow)
+    limit += config_.reply_timeout;
   if (now - last_heard_ < limit) return;
   const auto seconds = std::chrono::duration_cast<std::chrono::seconds>(now - last_heard_).count();
   fail("the printer stopped answering after line " + std::to_string(done_) + ": nothing heard for " +
        std::to_string(seconds) + " s, " + std::to_string(pokes_) + " M105 pokes unanswered");
 }
 
-std::string MarlinSession::take_output() { return std::exchange(output_, {}); }
-std::vector<SessionEvent> MarlinSession::take_events() { return std::exchange(events_, {}); }
+std::string MarlinSession::take_output() {
+  return std::exchange(output_, {});
+}
+std::vector<SessionEvent> MarlinSession::take_events() {
+  return std::exchange(events_, {});
+}
 
 }  // namespace salient::protocol::marlin

@@ -49,10 +49,22 @@ struct SessionConfig {
 };
 
 struct SessionEvent {
-  enum class Kind { acknowledged, resend, temperatures, firmware, capability, action, error, reset, timeout, finished, failed };
+  enum class Kind {
+    acknowledged,
+    resend,
+    temperatures,
+    firmware,
+    capability,
+    action,
+    error,
+    reset,
+    timeout,
+    finished,
+    failed
+  };
   Kind kind;
-  long long line = 0;      // acknowledged: how many commands are done; resend: the line asked for
-  std::string text;        // error text, firmware name, capability, host action
+  long long line = 0;  // acknowledged: how many commands are done; resend: the line asked for
+  std::string text;    // error text, firmware name, capability, host action
   Temperatures temperatures;
 };
 
@@ -114,7 +126,7 @@ class MarlinSession {
 
   SessionConfig config_;
   SessionState state_ = SessionState::idle;
-  std::deque<std::pair<std::string, bool>> queue_;  // (command, counts) not yet sent
+  std::deque<std::pair<std::string, bool>> queue_;          // (command, counts) not yet sent
   std::map<long long, std::pair<std::string, bool>> sent_;  // line → (command, counts), for resends
   std::deque<InFlight> in_flight_;
   long long next_line_ = 0;
@@ -122,12 +134,12 @@ class MarlinSession {
   int free_slots_ = 1;  // ADVANCED_OK's B at the last ok
   bool advanced_ok_ = false;
   bool expect_ok_after_resend_ = true;
-  int resend_oks_due_ = 0;         // ping-pong: plain oks that answer Resend requests, not lines
+  int resend_oks_due_ = 0;  // ping-pong: plain oks that answer Resend requests, not lines
   bool seen_ok_after_resend_ = false;
   int resend_oks_missed_ = 0;
   long long resend_line_ = -1;
   int resend_count_ = 0;
-  int repeats_expected_ = 0;  // requests for resend_line_ still due from lines sent behind it
+  int repeats_expected_ = 0;     // requests for resend_line_ still due from lines sent behind it
   bool checksum_error_ = false;  // the last Error: said checksum: the next Resend is genuine
   bool synchronising_ = false;
   std::size_t done_ = 0, total_ = 0, pokes_ = 0, resent_ = 0;
@@ -138,7 +150,7 @@ class MarlinSession {
   Millis poke_wait_{0}, last_heard_{0};
   bool halted_ = false;
   Millis next_m108_{Millis::max()};  // a cancel during a heating wait: when M108 goes again
-  long long resent_below_ = -1;  // lines numbered below this, sent after a rewind, are resends
+  long long resent_below_ = -1;      // lines numbered below this, sent after a rewind, are resends
   // What the machine is busy with: the least time of each command sent lately, as many as a
   // planner holds (Marlin's BLOCK_BUFFER_SIZE 16, plus its BUFSIZE 4).
   struct Motion {

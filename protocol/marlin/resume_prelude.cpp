@@ -15,7 +15,8 @@ std::optional<double> word(std::string_view c, char letter) {
     if (at + 1 >= c.size() || c[at + 1] != letter) continue;
     double v = 0;
     const auto [ptr, ec] = std::from_chars(c.data() + at + 2, c.data() + c.size(), v);
-    return ec == std::errc() && ptr != c.data() + at + 2 ? std::optional<double>(v) : std::optional<double>(0.0);
+    return ec == std::errc() && ptr != c.data() + at + 2 ? std::optional<double>(v)
+                                                         : std::optional<double>(0.0);
   }
   return std::nullopt;
 }
@@ -42,16 +43,26 @@ std::vector<std::string> resume_prelude(const std::vector<std::string>& gcode, s
     if (c.empty()) continue;
     ++seen;
     const std::string_view code = std::string_view(c).substr(0, c.find(' '));
-    if (code == "M104" || code == "M109") hotend = word(c, 'S').value_or(word(c, 'R').value_or(hotend));
-    else if (code == "M140" || code == "M190") bed = word(c, 'S').value_or(word(c, 'R').value_or(bed));
-    else if (code == "M106") fan = word(c, 'S').value_or(255);
-    else if (code == "M107") fan = 0;
-    else if (code == "G90") relative = false;
-    else if (code == "G91") relative = true;
-    else if (code == "M82") relative_e = false;
-    else if (code == "M83") relative_e = true;
-    else if (code == "G20") inches = true;
-    else if (code == "G21") inches = false;
+    if (code == "M104" || code == "M109")
+      hotend = word(c, 'S').value_or(word(c, 'R').value_or(hotend));
+    else if (code == "M140" || code == "M190")
+      bed = word(c, 'S').value_or(word(c, 'R').value_or(bed));
+    else if (code == "M106")
+      fan = word(c, 'S').value_or(255);
+    else if (code == "M107")
+      fan = 0;
+    else if (code == "G90")
+      relative = false;
+    else if (code == "G91")
+      relative = true;
+    else if (code == "M82")
+      relative_e = false;
+    else if (code == "M83")
+      relative_e = true;
+    else if (code == "G20")
+      inches = true;
+    else if (code == "G21")
+      inches = false;
     else if (code == "G92") {
       for (int i = 0; i < 4; ++i)
         if (auto v = word(c, axes[i])) pos[i] = *v;

@@ -12,8 +12,9 @@ using marlin::Millis;
 
 // Sends an unnumbered command and collects the reply up to its ok; empty on timeout, or as soon
 // as `abort` is set (the daemon stops while a silent board is being asked).
-std::vector<marlin::MarlinReply> exchange(Transport& t, const std::string& command, std::chrono::milliseconds timeout,
-                                          const std::atomic<int>& abort, int abort_value) {
+std::vector<marlin::MarlinReply> exchange(Transport& t, const std::string& command,
+                                          std::chrono::milliseconds timeout, const std::atomic<int>& abort,
+                                          int abort_value) {
   t.write(command + "\n");
   std::vector<marlin::MarlinReply> replies;
   std::string partial;
@@ -40,25 +41,30 @@ FirmwareInfo MarlinLink::handshake() {
   transport_->write("\n");  // ends whatever half line the firmware may hold
   for (int attempt = 0; attempt < config_.handshake_attempts; ++attempt) {
     const auto replies = exchange(*transport_, "M115", config_.handshake_timeout, request_, kInterrupt);
-    if (request_.load() == kInterrupt) throw LinkError(transport_->describe() + ": connecting was interrupted");
+    if (request_.load() == kInterrupt)
+      throw LinkError(transport_->describe() + ": connecting was interrupted");
     if (replies.empty()) continue;
     for (const auto& r : replies) {
       if (r.kind == marlin::ReplyKind::firmware) firmware_.name = r.name;
-      if (r.kind == marlin::ReplyKind::capability && r.name == "EMERGENCY_PARSER") firmware_.emergency_parser = r.enabled;
-      if (r.kind == marlin::ReplyKind::capability && r.name == "AUTOREPORT_TEMP") firmware_.autoreport_temperature = r.enabled;
+      if (r.kind == marlin::ReplyKind::capability && r.name == "EMERGENCY_PARSER")
+        firmware_.emergency_parser = r.enabled;
+      if (r.kind == marlin::ReplyKind::capability && r.name == "AUTOREPORT_TEMP")
+        firmware_.autoreport_temperature = r.enabled;
     }
     config_.session.emergency_parser = firmware_.emergency_parser;
     if (firmware_.autoreport_temperature && config_.autoreport_seconds > 0)
-      exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout, request_,
-               kInterrupt);
+      exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout,
+               request_, kInterrupt);
     idle_heard_ = Clock::now();
     return firmware_;
   }
-  throw LinkError(transport_->describe() + ": no answer to M115 after " + std::to_string(config_.handshake_attempts) +
+  throw LinkError(transport_->describe() + ": no answer to M115 after " +
+                  std::to_string(config_.handshake_attempts) +
                   " tries: is it a Marlin printer, and is the baud rate right?");
 }
 
-void MarlinLink::idle(std::chrono::milliseconds duration, const std::function<void(const marlin::SessionEvent&)>& on_event,
+void MarlinLink::idle(std::chrono::milliseconds duration,
+                      const std::function<void(const marlin::SessionEvent&)>& on_event,
                       std::chrono::milliseconds poll) {
   using Kind = marlin::SessionEvent::Kind;
   const auto until = Clock::now() + duration;
@@ -67,7 +73,8 @@ void MarlinLink::idle(std::chrono::milliseconds duration, const std::function<vo
     last_poll_ = Clock::now();
   }
   while (Clock::now() < until) {
-    const std::string bytes = transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
+    const std::string bytes =
+        transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
     if (!bytes.empty()) idle_heard_ = Clock::now();
     idle_partial_ += bytes;
     for (std::size_t nl; (nl = idle_partial_.find('\n')) != std::string::npos;) {
@@ -85,14 +92,15 @@ void MarlinLink::idle(std::chrono::milliseconds duration, const std::function<vo
   }
   // Polled (or auto-reporting) every few seconds: this long without a byte, the board is gone.
   if (Clock::now() - idle_heard_ > config_.idle_silence_limit)
-    throw LinkError(transport_->describe() + ": the printer stopped answering (nothing heard for " +
-                    std::to_string(std::chrono::duration_cast<std::chrono::seconds>(config_.idle_silence_limit).count()) +
-                    " s between prints)");
+    throw LinkError(
+        transport_->describe() + ": the printer stopped answering (nothing heard for " +
+        std::to_string(std::chrono::duration_cast<std::chrono::seconds>(config_.idle_silence_limit).count()) +
+        " s between prints)");
 }
 
 PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
-                              const std::function<void(const marlin::SessionEvent&)>& on_event, std::size_t resume_from,
-                              const std::vector<std::string>& prelude) {
+                              const std::function<void(const marlin::SessionEvent&)>& on_event,
+                              std::size_t resume_from, const std::vector<std::string>& prelude) {
   using marlin::SessionState;
   const auto t0 = Clock::now();
   auto now = [&] { return std::chrono::duration_cast<Millis>(Clock::now() - t0); };
@@ -116,15 +124,24 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
   try {
     for (;;) {
       switch (request_.exchange(kNone)) {
-        case kPause: session.pause(); break;
-        case kResume: session.resume(now()); break;
-        case kCancel: session.cancel(config_.cancel_gcode, now()); break;
+        case kPause:
+          session.pause();
+          break;
+        case kResume:
+          session.resume(now());
+          break;
+        case kCancel:
+          session.cancel(config_.cancel_gcode, now());
+          break;
         case kInterrupt:
           session.cancel({"M104 S0", "M140 S0", "M107"}, now());
           give_up = now() + config_.interrupt_wait;
           break;
-        case kEmergency: session.emergency_stop(); break;
-        default: break;
+        case kEmergency:
+          session.emergency_stop();
+          break;
+        default:
+          break;
       }
       if (now() >= give_up) {
         if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
@@ -138,7 +155,8 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
         if (on_event) on_event(e);
       }
       const SessionState s = session.state();
-      if (s == SessionState::finished || s == SessionState::failed || (s == SessionState::cancelled && session.idle()))
+      if (s == SessionState::finished || s == SessionState::failed ||
+          (s == SessionState::cancelled && session.idle()))
         return finish();
       // Wake for the session's next deadline, and at least every 50 ms for requests.
       const Millis left = std::clamp(session.deadline() - now(), Millis(0), Millis(50));

@@ -35,8 +35,8 @@ struct PrintResult {
   marlin::SessionState state = marlin::SessionState::idle;
   bool disconnected = false;  // the link dropped: `confirmed` is where to resume from
   std::size_t confirmed = 0, total = 0;
-  std::string reason;          // why it stopped, when it did not finish
-  bool halted = false;         // a cancel had to send M112: the firmware must be reset
+  std::string reason;   // why it stopped, when it did not finish
+  bool halted = false;  // a cancel had to send M112: the firmware must be reset
   std::size_t lines_resent = 0, pokes = 0;
   double seconds = 0;
 };
@@ -55,7 +55,8 @@ class MarlinLink {
   // Between prints: listens for up to `duration` (temperature reports, errors, a reboot), and
   // polls with an unnumbered M105 every `poll` when the firmware does not auto-report. Events:
   // temperatures, error (fatal ones end with "failed"), reset. Throws LinkError.
-  void idle(std::chrono::milliseconds duration, const std::function<void(const marlin::SessionEvent&)>& on_event,
+  void idle(std::chrono::milliseconds duration,
+            const std::function<void(const marlin::SessionEvent&)>& on_event,
             std::chrono::milliseconds poll = std::chrono::milliseconds(2000));
   // Writes one unnumbered line now (M112 when no print is running). Throws LinkError.
   void send_now(const std::string& line) { transport_->write(line + "\n"); }

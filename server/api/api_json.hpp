@@ -7,9 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "server/http/json_text.hpp"
 #include "server/http/router.hpp"
 #include "server/jobs/job.hpp"
-#include "server/http/json_text.hpp"
 
 namespace salient::server {
 

@@ -7,16 +7,18 @@
 
 #include "server/api/api_json.hpp"
 #include "server/api/routes.hpp"
-#include "server/store/job_store.hpp"
 #include "server/http/json_text.hpp"
+#include "server/store/job_store.hpp"
 
 namespace salient::server {
 
 WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
   return [&hub, &keys](const HttpRequest& r) -> WebSocketAccept {
-    if (r.path != "/api/v1/events") return {nullptr, error_response(404, "not_found", "no WebSocket at " + r.path)};
+    if (r.path != "/api/v1/events")
+      return {nullptr, error_response(404, "not_found", "no WebSocket at " + r.path)};
     if (!keys.valid(r))
-      return {nullptr, error_response(401, "unauthorized", "send the API key (X-Api-Key, Authorization: Bearer, or ?apikey=)")};
+      return {nullptr, error_response(401, "unauthorized",
+                                      "send the API key (X-Api-Key, Authorization: Bearer, or ?apikey=)")};
     auto subscription = hub.subscribe();
     // ?topics=jobs,printer/sim subscribes at once (a client may also send {"subscribe": […]}).
     if (const auto it = r.query.find("topics"); it != r.query.end()) {
@@ -24,8 +26,9 @@ WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
       for (std::string topic; std::getline(list, topic, ',');) {
         if (!topic.empty() && !subscription->subscribe(topic)) {
           subscription->closed();
-          return {nullptr, error_response(400, "bad_request", "unknown topic '" + topic +
-                                                                  "': use jobs, job/ID, printers, printer/ID or terminal/ID")};
+          return {nullptr, error_response(400, "bad_request",
+                                          "unknown topic '" + topic +
+                                              "': use jobs, job/ID, printers, printer/ID or terminal/ID")};
         }
       }
     }
@@ -36,9 +39,10 @@ WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
 void add_event_route(Router& router) {
   // The same path without an upgrade: say how to connect (and, through the router, 401 first).
   router.add("GET", "/api/v1/events", Access::key, [](const HttpRequest&, const PathParams&) {
-    HttpResponse r = error_response(426, "upgrade_required",
-                                    "/api/v1/events is a WebSocket: connect with Upgrade: websocket, then send "
-                                    "{\"subscribe\": [\"jobs\"]}");
+    HttpResponse r =
+        error_response(426, "upgrade_required",
+                       "/api/v1/events is a WebSocket: connect with Upgrade: websocket, then send "
+                       "{\"subscribe\": [\"jobs\"]}");
     r.headers.emplace_back("Upgrade", "websocket");
     return r;
   });
@@ -54,7 +58,8 @@ SnapshotFn event_snapshots(Store& store, PrinterService& printers) {
         for (auto j = list.rbegin(); j != list.rend(); ++j) out.emplace_back("job", json_text(job_json(*j)));
       }
     } else if (topic.rfind("job/", 0) == 0) {
-      if (auto j = JobStore(store.db()).get(topic.substr(4))) out.emplace_back("job", json_text(job_json(*j)));
+      if (auto j = JobStore(store.db()).get(topic.substr(4)))
+        out.emplace_back("job", json_text(job_json(*j)));
     } else if (topic == "printers") {
       for (const auto& p : printers.all()) out.emplace_back("printer", p->status_json());
     } else if (topic.rfind("printer/", 0) == 0) {
@@ -82,7 +87,8 @@ std::function<void(const Job&)> job_event_publisher(EventHub& hub) {
       last = key;
       if (finished(j.state)) seen->last.erase(j.id);
     }
-    hub.publish({"jobs", "job/" + j.id}, "job", json_text(job_json(j)), progress ? Delivery::coalesce : Delivery::always);
+    hub.publish({"jobs", "job/" + j.id}, "job", json_text(job_json(j)),
+                progress ? Delivery::coalesce : Delivery::always);
   };
 }
 

@@ -25,16 +25,19 @@ int query_int(const HttpRequest& r, const char* key, int fallback, int min, int 
     if (used != it->second.size() || v < min || v > max) throw std::invalid_argument(key);
     return v;
   } catch (const std::exception&) {
-    throw ApiError(400, "bad_request", std::string(key) + " must be a whole number from " + std::to_string(min) + " to " +
-                                           std::to_string(max));
+    throw ApiError(400, "bad_request",
+                   std::string(key) + " must be a whole number from " + std::to_string(min) + " to " +
+                       std::to_string(max));
   }
 }
 
 // The artefact named in the job's result (gcode, plan), from the file store.
-HttpResponse artefact(Store& store, const std::string& id, const char* key, const char* type, const std::string& suffix) {
+HttpResponse artefact(Store& store, const std::string& id, const char* key, const char* type,
+                      const std::string& suffix) {
   const Job j = job_or_404(store, id);
   if (j.state != JobState::done || !j.result)
-    throw ApiError(409, "not_ready", "job " + id + " is " + std::string(to_string(j.state)) + ": nothing to download yet");
+    throw ApiError(409, "not_ready",
+                   "job " + id + " is " + std::string(to_string(j.state)) + ": nothing to download yet");
   const json r = json::parse(*j.result);
   if (!r.contains(key))  // a job finished by an older salientd, before this artefact existed
     throw ApiError(404, "not_found", "job " + id + " has no " + std::string(key) + ": submit it again");
@@ -47,85 +50,98 @@ HttpResponse artefact(Store& store, const std::string& id, const char* key, cons
 }  // namespace
 
 void add_job_routes(Router& router, Store& store, JobService& jobs, const DaemonConfig& config) {
-  router.add("POST", "/api/v1/jobs", Access::key, [&store, &jobs, &config](const HttpRequest& r, const PathParams&) {
-    std::string filename, bytes, settings;
-    const std::string type = r.header("content-type");
-    if (const auto boundary = multipart_boundary(type)) {
-      std::vector<FormPart> parts;
-      try {
-        parts = parse_multipart(r.body, *boundary);
-      } catch (const std::invalid_argument& e) {
-        throw ApiError(400, "bad_request", e.what());
-      }
-      bool have_file = false;
-      for (FormPart& p : parts) {
-        if (p.name == "file") filename = p.filename.value_or("model"), bytes = std::move(p.body), have_file = true;
-        if (p.name == "settings") settings = std::move(p.body);
-      }
-      if (!have_file) throw ApiError(400, "bad_request", "the multipart body has no 'file' part");
-    } else {
-      const auto it = r.query.find("filename");
-      if (it == r.query.end() || it->second.empty())
-        throw ApiError(400, "bad_request", "send multipart/form-data with a 'file' part, or the model as the body with ?filename=NAME");
-      filename = it->second;
-      bytes = r.body;
-      if (auto s = r.query.find("settings"); s != r.query.end()) settings = s->second;
-    }
-    if (settings.size() > config.max_json_bytes)
-      throw ApiError(413, "too_large", "settings exceed " + std::to_string(config.max_json_bytes) + " bytes");
-    const JobService::Submitted s = jobs.submit(filename, bytes, settings);
-    HttpResponse out = json_response(s.reused ? 200 : 201, job_json(s.job));
-    out.headers.emplace_back("Location", "/api/v1/jobs/" + s.job.id);
-    return out;
-  });
+  router.add(
+      "POST", "/api/v1/jobs", Access::key, [&store, &jobs, &config](const HttpRequest& r, const PathParams&) {
+        std::string filename, bytes, settings;
+        const std::string type = r.header("content-type");
+        if (const auto boundary = multipart_boundary(type)) {
+          std::vector<FormPart> parts;
+          try {
+            parts = parse_multipart(r.body, *boundary);
+          } catch (const std::invalid_argument& e) {
+            throw ApiError(400, "bad_request", e.what());
+          }
+          bool have_file = false;
+          for (FormPart& p : parts) {
+            if (p.name == "file")
+              filename = p.filename.value_or("model"), bytes = std::move(p.body), have_file = true;
+            if (p.name == "settings") settings = std::move(p.body);
+          }
+          if (!have_file) throw ApiError(400, "bad_request", "the multipart body has no 'file' part");
+        } else {
+          const auto it = r.query.find("filename");
+          if (it == r.query.end() || it->second.empty())
+            throw ApiError(
+                400, "bad_request",
+                "send multipart/form-data with a 'file' part, or the model as the body with ?filename=NAME");
+          filename = it->second;
+          bytes = r.body;
+          if (auto s = r.query.find("settings"); s != r.query.end()) settings = s->second;
+        }
+        if (settings.size() > config.max_json_bytes)
+          throw ApiError(413, "too_large",
+                         "settings exceed " + std::to_string(config.max_json_bytes) + " bytes");
+        const JobService::Submitted s = jobs.submit(filename, bytes, settings);
+        HttpResponse out = json_response(s.reused ? 200 : 201, job_json(s.job));
+        out.headers.emplace_back("Location", "/api/v1/jobs/" + s.job.id);
+        return out;
+      });
   router.add("GET", "/api/v1/jobs", Access::key, [&store](const HttpRequest& r, const PathParams&) {
     std::optional<JobState> state;
     if (auto it = r.query.find("state"); it != r.query.end()) {
       state = job_state_from(it->second);
-      if (!state) throw ApiError(400, "bad_request", "state must be queued, running, done, failed or cancelled");
+      if (!state)
+        throw ApiError(400, "bad_request", "state must be queued, running, done, failed or cancelled");
     }
     const int limit = query_int(r, "limit", 50, 1, 1000), offset = query_int(r, "offset", 0, 0, 1 << 30);
     JobStore js(store.db());
     json list = json::array();
     for (const Job& j : js.list(state, limit, offset)) list.push_back(job_json(j));
-    return json_response(200, {{"jobs", list}, {"total", js.count(state)}, {"limit", limit}, {"offset", offset}});
+    return json_response(200,
+                         {{"jobs", list}, {"total", js.count(state)}, {"limit", limit}, {"offset", offset}});
   });
   router.add("GET", "/api/v1/jobs/{id}", Access::key, [&store](const HttpRequest&, const PathParams& p) {
     return json_response(200, job_json(job_or_404(store, p.at("id"))));
   });
   // A job that has not finished is cancelled; a finished one is removed.
-  router.add("DELETE", "/api/v1/jobs/{id}", Access::key, [&store, &jobs](const HttpRequest&, const PathParams& p) {
-    const Job j = job_or_404(store, p.at("id"));
-    if (!finished(j.state)) {
-      jobs.cancel(j.id);
-      return json_response(202, job_json(job_or_404(store, j.id)));
-    }
-    // Its model and artefacts go too, unless another job, a print or an upload still uses them.
-    std::vector<std::string> digests = {j.model_digest};
-    if (j.result) {
-      const json r = json::parse(*j.result, nullptr, false);
-      for (const char* key : {"gcode", "plan", "plot", "model", "saliency"})
-        if (r.is_object() && r.contains(key) && r.at(key).is_string()) digests.push_back(r.at(key).get<std::string>());
-    }
-    JobStore(store.db()).remove(j.id);
-    store.remove_unreferenced(digests);
-    return HttpResponse::text(204, "");
-  });
-  router.add("GET", "/api/v1/jobs/{id}/gcode", Access::key, [&store](const HttpRequest&, const PathParams& p) {
-    return artefact(store, p.at("id"), "gcode", "text/x.gcode", ".gcode");
-  });
+  router.add("DELETE", "/api/v1/jobs/{id}", Access::key,
+             [&store, &jobs](const HttpRequest&, const PathParams& p) {
+               const Job j = job_or_404(store, p.at("id"));
+               if (!finished(j.state)) {
+                 jobs.cancel(j.id);
+                 return json_response(202, job_json(job_or_404(store, j.id)));
+               }
+               // Its model and artefacts go too, unless another job, a print or an upload still uses them.
+               std::vector<std::string> digests = {j.model_digest};
+               if (j.result) {
+                 const json r = json::parse(*j.result, nullptr, false);
+                 for (const char* key : {"gcode", "plan", "plot", "model", "saliency"})
+                   if (r.is_object() && r.contains(key) && r.at(key).is_string())
+                     digests.push_back(r.at(key).get<std::string>());
+               }
+               JobStore(store.db()).remove(j.id);
+               store.remove_unreferenced(digests);
+               return HttpResponse::text(204, "");
+             });
+  router.add("GET", "/api/v1/jobs/{id}/gcode", Access::key,
+             [&store](const HttpRequest&, const PathParams& p) {
+               return artefact(store, p.at("id"), "gcode", "text/x.gcode", ".gcode");
+             });
   router.add("GET", "/api/v1/jobs/{id}/plan", Access::key, [&store](const HttpRequest&, const PathParams& p) {
     return artefact(store, p.at("id"), "plan", "application/json", ".plan.json");
   });
-  router.add("GET", "/api/v1/jobs/{id}/plot.svg", Access::key, [&store](const HttpRequest&, const PathParams& p) {
-    return artefact(store, p.at("id"), "plot", "image/svg+xml", ".plot.svg");
-  });
-  router.add("GET", "/api/v1/jobs/{id}/model.3mf", Access::key, [&store](const HttpRequest&, const PathParams& p) {
-    return artefact(store, p.at("id"), "model", "model/3mf", ".3mf");
-  });
-  router.add("GET", "/api/v1/jobs/{id}/saliency.ply", Access::key, [&store](const HttpRequest&, const PathParams& p) {
-    return artefact(store, p.at("id"), "saliency", "application/octet-stream", ".saliency.ply");
-  });
+  router.add("GET", "/api/v1/jobs/{id}/plot.svg", Access::key,
+             [&store](const HttpRequest&, const PathParams& p) {
+               return artefact(store, p.at("id"), "plot", "image/svg+xml", ".plot.svg");
+             });
+  router.add("GET", "/api/v1/jobs/{id}/model.3mf", Access::key,
+             [&store](const HttpRequest&, const PathParams& p) {
+               return artefact(store, p.at("id"), "model", "model/3mf", ".3mf");
+             });
+  router.add("GET", "/api/v1/jobs/{id}/saliency.ply", Access::key,
+             [&store](const HttpRequest&, const PathParams& p) {
+               return artefact(store, p.at("id"), "saliency", "application/octet-stream", ".saliency.ply");
+             });
 }
 
 }  // namespace salient::server

@@ -52,7 +52,8 @@ json file_json(const StoredFile& f, const HttpRequest& r) {
           {"date", static_cast<long long>(f.uploaded_at)},
           {"hash", f.digest},
           {"refs",
-           {{"resource", base + "/api/files/local/" + f.name}, {"download", base + "/downloads/files/local/" + f.name}}}};
+           {{"resource", base + "/api/files/local/" + f.name},
+            {"download", base + "/downloads/files/local/" + f.name}}}};
 }
 
 std::string state_text(const json& s) {
@@ -94,7 +95,8 @@ json temperature_json(const json& t) {
 
 }  // namespace
 
-void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config) {
+void add_octoprint_routes(Router& router, Store& store, PrinterService& printers,
+                          const DaemonConfig& config) {
   auto octo = std::make_shared<OctoState>();
   const std::size_t max_json = config.max_json_bytes, depth = static_cast<std::size_t>(config.max_json_depth);
 
@@ -144,52 +146,64 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
 
   // The upload: multipart `file`, and optionally `path`, `select`, `print` (as PrusaSlicer and
   // Cura send them). 201 + Location; with print=true the first printer starts it (409 if busy).
-  router.add("POST", "/api/files/local", Access::key, [&store, &printers, octo](const HttpRequest& r, const PathParams&) {
-    const auto boundary = multipart_boundary(r.header("content-type"));
-    if (!boundary) throw ApiError(400, "bad_request", "send multipart/form-data with a 'file' part");
-    std::vector<FormPart> parts;
-    try {
-      parts = parse_multipart(r.body, *boundary);
-    } catch (const std::invalid_argument& e) {
-      throw ApiError(400, "bad_request", e.what());
-    }
-    const FormPart* file = nullptr;
-    bool select = false, print = false;
-    for (const FormPart& p : parts) {
-      if (p.name == "file" && p.filename) file = &p;
-      if (p.name == "select") select = p.body == "true";
-      if (p.name == "print") print = p.body == "true";
-    }
-    if (!file) throw ApiError(400, "bad_request", "the multipart body has no 'file' part with a filename");
-    const std::string name = sanitize_filename(*file->filename);
-    if (!is_gcode(name))
-      throw ApiError(415, "unsupported_format", name + ": only G-code (.gcode, .gco, .g) can be uploaded here; "
-                                                       "send models to /api/v1/jobs to slice them");
-    check_printable(name, file->body);  // 422 now, not a print that stalls later
-    std::optional<std::string> replaced;
-    {
-      std::lock_guard files_lock(store.files_mutex());  // the file and its row land together
-      if (auto old = PrintStore(store.db()).file(name)) replaced = old->digest;
-      const std::string digest = store.files().put(file->body);
-      PrintStore(store.db()).put_file(name, digest, static_cast<long long>(file->body.size()),
-                                      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
-    }
-    if (replaced) store.remove_unreferenced({*replaced});  // an upload under the same name replaces it
-    if (select || print) {
-      std::lock_guard lock(octo->mutex);
-      octo->selected = name;
-    }
-    if (print) printers.print_file(default_printer(printers), name);
-    const StoredFile stored = *PrintStore(store.db()).file(name);
-    const json f = file_json(stored, r);
-    HttpResponse out = json_response(201, {{"files", {{"local", {{"name", f["name"]}, {"display", f["display"]},
-                                                                 {"path", f["path"]}, {"origin", "local"}, {"refs", f["refs"]}}}}},
-                                           {"done", true},
-                                           {"effectiveSelect", select || print},
-                                           {"effectivePrint", print}});
-    out.headers.emplace_back("Location", f["refs"]["resource"].get<std::string>());
-    return out;
-  });
+  router.add(
+      "POST", "/api/files/local", Access::key,
+      [&store, &printers, octo](const HttpRequest& r, const PathParams&) {
+        const auto boundary = multipart_boundary(r.header("content-type"));
+        if (!boundary) throw ApiError(400, "bad_request", "send multipart/form-data with a 'file' part");
+        std::vector<FormPart> parts;
+        try {
+          parts = parse_multipart(r.body, *boundary);
+        } catch (const std::invalid_argument& e) {
+          throw ApiError(400, "bad_request", e.what());
+        }
+        const FormPart* file = nullptr;
+        bool select = false, print = false;
+        for (const FormPart& p : parts) {
+          if (p.name == "file" && p.filename) file = &p;
+          if (p.name == "select") select = p.body == "true";
+          if (p.name == "print") print = p.body == "true";
+        }
+        if (!file)
+          throw ApiError(400, "bad_request", "the multipart body has no 'file' part with a filename");
+        const std::string name = sanitize_filename(*file->filename);
+        if (!is_gcode(name))
+          throw ApiError(415, "unsupported_format",
+                         name +
+                             ": only G-code (.gcode, .gco, .g) can be uploaded here; "
+                             "send models to /api/v1/jobs to slice them");
+        check_printable(name, file->body);  // 422 now, not a print that stalls later
+        std::optional<std::string> replaced;
+        {
+          std::lock_guard files_lock(store.files_mutex());  // the file and its row land together
+          if (auto old = PrintStore(store.db()).file(name)) replaced = old->digest;
+          const std::string digest = store.files().put(file->body);
+          PrintStore(store.db())
+              .put_file(
+                  name, digest, static_cast<long long>(file->body.size()),
+                  std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
+        }
+        if (replaced) store.remove_unreferenced({*replaced});  // an upload under the same name replaces it
+        if (select || print) {
+          std::lock_guard lock(octo->mutex);
+          octo->selected = name;
+        }
+        if (print) printers.print_file(default_printer(printers), name);
+        const StoredFile stored = *PrintStore(store.db()).file(name);
+        const json f = file_json(stored, r);
+        HttpResponse out = json_response(201, {{"files",
+                                                {{"local",
+                                                  {{"name", f["name"]},
+                                                   {"display", f["display"]},
+                                                   {"path", f["path"]},
+                                                   {"origin", "local"},
+                                                   {"refs", f["refs"]}}}}},
+                                               {"done", true},
+                                               {"effectiveSelect", select || print},
+                                               {"effectivePrint", print}});
+        out.headers.emplace_back("Location", f["refs"]["resource"].get<std::string>());
+        return out;
+      });
   const auto list_files = [&store](const HttpRequest& r, const PathParams&) {
     json files = json::array();
     for (const StoredFile& f : PrintStore(store.db()).files()) files.push_back(file_json(f, r));
@@ -197,72 +211,88 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
   };
   router.add("GET", "/api/files", Access::key, list_files);
   router.add("GET", "/api/files/local", Access::key, list_files);
-  router.add("GET", "/api/files/local/{name}", Access::key, [&store](const HttpRequest& r, const PathParams& p) {
-    const auto f = PrintStore(store.db()).file(p.at("name"));
-    if (!f) throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
-    return json_response(200, file_json(*f, r));
-  });
-  router.add("DELETE", "/api/files/local/{name}", Access::key, [&store](const HttpRequest&, const PathParams& p) {
-    const auto f = PrintStore(store.db()).file(p.at("name"));
-    if (!f || !PrintStore(store.db()).remove_file(p.at("name"))) throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
-    store.remove_unreferenced({f->digest});
-    return HttpResponse::text(204, "");
-  });
-  router.add("GET", "/downloads/files/local/{name}", Access::key, [&store](const HttpRequest&, const PathParams& p) {
-    const auto f = PrintStore(store.db()).file(p.at("name"));
-    if (!f) throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
-    return HttpResponse::text(200, store.files().read(f->digest), "text/x.gcode");
-  });
+  router.add("GET", "/api/files/local/{name}", Access::key,
+             [&store](const HttpRequest& r, const PathParams& p) {
+               const auto f = PrintStore(store.db()).file(p.at("name"));
+               if (!f) throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
+               return json_response(200, file_json(*f, r));
+             });
+  router.add("DELETE", "/api/files/local/{name}", Access::key,
+             [&store](const HttpRequest&, const PathParams& p) {
+               const auto f = PrintStore(store.db()).file(p.at("name"));
+               if (!f || !PrintStore(store.db()).remove_file(p.at("name")))
+                 throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
+               store.remove_unreferenced({f->digest});
+               return HttpResponse::text(204, "");
+             });
+  router.add("GET", "/downloads/files/local/{name}", Access::key,
+             [&store](const HttpRequest&, const PathParams& p) {
+               const auto f = PrintStore(store.db()).file(p.at("name"));
+               if (!f) throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
+               return HttpResponse::text(200, store.files().read(f->digest), "text/x.gcode");
+             });
 
-  router.add("GET", "/api/job", Access::key, [&printers, &store, octo](const HttpRequest&, const PathParams&) {
-    const json s = json::parse(default_printer(printers).status_json());
-    json file = {{"name", nullptr}, {"path", nullptr}, {"origin", nullptr}, {"size", nullptr}, {"date", nullptr}};
-    json progress = {{"completion", nullptr}, {"filepos", nullptr}, {"printTime", nullptr}, {"printTimeLeft", nullptr}};
-    std::string name;
-    if (s.at("print").is_object()) {
-      const json& p = s.at("print");
-      name = p.at("file").get<std::string>();
-      progress = {{"completion", p.at("progress").get<double>() * 100},
-                  {"filepos", p.at("confirmed")},
-                  {"printTime", p.at("elapsed")},
-                  {"printTimeLeft", p.at("eta")}};
-    } else {
-      std::lock_guard lock(octo->mutex);
-      name = octo->selected;
-    }
-    if (!name.empty()) {
-      file = {{"name", name}, {"path", name}, {"origin", "local"}, {"size", nullptr}, {"date", nullptr}};
-      if (const auto f = PrintStore(store.db()).file(name)) file["size"] = f->size, file["date"] = static_cast<long long>(f->uploaded_at);
-    }
-    return json_response(200, {{"job", {{"file", file}, {"estimatedPrintTime", nullptr}, {"filament", nullptr}}},
-                               {"progress", progress},
-                               {"state", state_text(s)}});
-  });
-  router.add("POST", "/api/job", Access::key, [&printers, octo, max_json, depth](const HttpRequest& r, const PathParams&) {
-    const json body = parse_json_body(r, max_json, depth);
-    Printer& printer = default_printer(printers);
-    const std::string command = string_field(body, "command", "");
-    if (command == "start") {
-      std::string name;
-      {
-        std::lock_guard lock(octo->mutex);
-        name = octo->selected;
-      }
-      if (name.empty()) throw ApiError(409, "no_file", "no file is selected: upload one with select=true");
-      printers.print_file(printer, name);
-    } else if (command == "cancel") {
-      printer.cancel();
-    } else if (command == "pause") {
-      const std::string action = string_field(body, "action", "toggle");
-      const std::string state = printer.state();
-      if (action == "pause" || (action == "toggle" && state == "printing")) printer.pause();
-      else if (action == "resume" || action == "toggle") printer.resume();
-      else throw ApiError(400, "bad_request", "'action' must be pause, resume or toggle");
-    } else {
-      throw ApiError(400, "bad_request", "'command' must be start, cancel or pause");
-    }
-    return HttpResponse::text(204, "");
-  });
+  router.add(
+      "GET", "/api/job", Access::key, [&printers, &store, octo](const HttpRequest&, const PathParams&) {
+        const json s = json::parse(default_printer(printers).status_json());
+        json file = {
+            {"name", nullptr}, {"path", nullptr}, {"origin", nullptr}, {"size", nullptr}, {"date", nullptr}};
+        json progress = {{"completion", nullptr},
+                         {"filepos", nullptr},
+                         {"printTime", nullptr},
+                         {"printTimeLeft", nullptr}};
+        std::string name;
+        if (s.at("print").is_object()) {
+          const json& p = s.at("print");
+          name = p.at("file").get<std::string>();
+          progress = {{"completion", p.at("progress").get<double>() * 100},
+                      {"filepos", p.at("confirmed")},
+                      {"printTime", p.at("elapsed")},
+                      {"printTimeLeft", p.at("eta")}};
+        } else {
+          std::lock_guard lock(octo->mutex);
+          name = octo->selected;
+        }
+        if (!name.empty()) {
+          file = {{"name", name}, {"path", name}, {"origin", "local"}, {"size", nullptr}, {"date", nullptr}};
+          if (const auto f = PrintStore(store.db()).file(name))
+            file["size"] = f->size, file["date"] = static_cast<long long>(f->uploaded_at);
+        }
+        return json_response(
+            200, {{"job", {{"file", file}, {"estimatedPrintTime", nullptr}, {"filament", nullptr}}},
+                  {"progress", progress},
+                  {"state", state_text(s)}});
+      });
+  router.add("POST", "/api/job", Access::key,
+             [&printers, octo, max_json, depth](const HttpRequest& r, const PathParams&) {
+               const json body = parse_json_body(r, max_json, depth);
+               Printer& printer = default_printer(printers);
+               const std::string command = string_field(body, "command", "");
+               if (command == "start") {
+                 std::string name;
+                 {
+                   std::lock_guard lock(octo->mutex);
+                   name = octo->selected;
+                 }
+                 if (name.empty())
+                   throw ApiError(409, "no_file", "no file is selected: upload one with select=true");
+                 printers.print_file(printer, name);
+               } else if (command == "cancel") {
+                 printer.cancel();
+               } else if (command == "pause") {
+                 const std::string action = string_field(body, "action", "toggle");
+                 const std::string state = printer.state();
+                 if (action == "pause" || (action == "toggle" && state == "printing"))
+                   printer.pause();
+                 else if (action == "resume" || action == "toggle")
+                   printer.resume();
+                 else
+                   throw ApiError(400, "bad_request", "'action' must be pause, resume or toggle");
+               } else {
+                 throw ApiError(400, "bad_request", "'command' must be start, cancel or pause");
+               }
+               return HttpResponse::text(204, "");
+             });
   router.add("GET", "/api/printer", Access::key, [&printers](const HttpRequest&, const PathParams&) {
     const json s = json::parse(default_printer(printers).status_json());
     const std::string state = s.at("state").get<std::string>();
@@ -272,10 +302,11 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                                {"sd", {{"ready", false}}},
                                {"state", state_json(s)}});
   });
-  router.add("POST", "/api/printer/command", Access::key, [&printers, max_json, depth](const HttpRequest& r, const PathParams&) {
-    default_printer(printers).command(parse_commands(parse_json_body(r, max_json, depth)));
-    return HttpResponse::text(204, "");
-  });
+  router.add("POST", "/api/printer/command", Access::key,
+             [&printers, max_json, depth](const HttpRequest& r, const PathParams&) {
+               default_printer(printers).command(parse_commands(parse_json_body(r, max_json, depth)));
+               return HttpResponse::text(204, "");
+             });
 }
 
 }  // namespace salient::server

@@ -11,15 +11,20 @@ namespace {
 
 using nlohmann::json;
 
-HttpResponse status(int code, const Printer& p) { return HttpResponse::text(code, p.status_json(), "application/json"); }
+HttpResponse status(int code, const Printer& p) {
+  return HttpResponse::text(code, p.status_json(), "application/json");
+}
 
 }  // namespace
 
 std::vector<std::string> parse_commands(const json& body) {
   json list;
-  if (body.contains("commands")) list = body.at("commands");
-  else if (body.contains("command")) list = json::array({body.at("command")});
-  else throw ApiError(400, "bad_request", "expected {\"commands\": [\"G28\", …]}");
+  if (body.contains("commands"))
+    list = body.at("commands");
+  else if (body.contains("command"))
+    list = json::array({body.at("command")});
+  else
+    throw ApiError(400, "bad_request", "expected {\"commands\": [\"G28\", …]}");
   if (!list.is_array() || list.empty() || list.size() > 1000)
     throw ApiError(400, "bad_request", "'commands' must be a list of 1 to 1000 G-code lines");
   std::vector<std::string> out;
@@ -27,7 +32,8 @@ std::vector<std::string> parse_commands(const json& body) {
     if (!c.is_string()) throw ApiError(400, "bad_request", "each command must be a string");
     const std::string line = c.get<std::string>();
     const std::string command = protocol::marlin::strip_comment(line);
-    if (command.empty()) throw ApiError(400, "bad_request", "each command must be a G-code command, not empty or a comment");
+    if (command.empty())
+      throw ApiError(400, "bad_request", "each command must be a G-code command, not empty or a comment");
     if (std::string why = protocol::marlin::unsendable(command); !why.empty())
       throw ApiError(400, "bad_request", "command '" + command.substr(0, 40) + "' cannot be sent: " + why);
     out.push_back(command);
@@ -45,42 +51,47 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
     body += "]}";
     return HttpResponse::text(200, std::move(body), "application/json");
   });
-  router.add("GET", "/api/v1/printers/{id}", Access::key, [&printers](const HttpRequest&, const PathParams& p) {
-    return status(200, printers.get(p.at("id")));
-  });
-  router.add("GET", "/api/v1/printers/{id}/prints", Access::key, [&printers, &store](const HttpRequest&, const PathParams& p) {
-    const Printer& printer = printers.get(p.at("id"));
-    json list = json::array();
-    for (const PrintRecord& r : PrintStore(store.db()).list(printer.id(), 100))
-      list.push_back({{"id", r.id},
-                      {"job", r.job_id ? json(*r.job_id) : json(nullptr)},
-                      {"file", r.filename},
-                      {"state", r.state},
-                      {"confirmed", r.confirmed},
-                      {"total", r.total},
-                      {"reason", r.reason ? json(*r.reason) : json(nullptr)},
-                      {"started_at", r.started_at},
-                      {"finished_at", r.finished_at ? json(*r.finished_at) : json(nullptr)}});
-    return json_response(200, {{"prints", list}});
-  });
-  router.add("POST", "/api/v1/printers/{id}/connect", Access::key, [&printers](const HttpRequest&, const PathParams& p) {
-    Printer& printer = printers.get(p.at("id"));
-    printer.connect();
-    return status(202, printer);
-  });
-  router.add("POST", "/api/v1/printers/{id}/disconnect", Access::key, [&printers](const HttpRequest&, const PathParams& p) {
-    Printer& printer = printers.get(p.at("id"));
-    printer.disconnect();
-    return status(202, printer);
-  });
+  router.add(
+      "GET", "/api/v1/printers/{id}", Access::key,
+      [&printers](const HttpRequest&, const PathParams& p) { return status(200, printers.get(p.at("id"))); });
+  router.add("GET", "/api/v1/printers/{id}/prints", Access::key,
+             [&printers, &store](const HttpRequest&, const PathParams& p) {
+               const Printer& printer = printers.get(p.at("id"));
+               json list = json::array();
+               for (const PrintRecord& r : PrintStore(store.db()).list(printer.id(), 100))
+                 list.push_back({{"id", r.id},
+                                 {"job", r.job_id ? json(*r.job_id) : json(nullptr)},
+                                 {"file", r.filename},
+                                 {"state", r.state},
+                                 {"confirmed", r.confirmed},
+                                 {"total", r.total},
+                                 {"reason", r.reason ? json(*r.reason) : json(nullptr)},
+                                 {"started_at", r.started_at},
+                                 {"finished_at", r.finished_at ? json(*r.finished_at) : json(nullptr)}});
+               return json_response(200, {{"prints", list}});
+             });
+  router.add("POST", "/api/v1/printers/{id}/connect", Access::key,
+             [&printers](const HttpRequest&, const PathParams& p) {
+               Printer& printer = printers.get(p.at("id"));
+               printer.connect();
+               return status(202, printer);
+             });
+  router.add("POST", "/api/v1/printers/{id}/disconnect", Access::key,
+             [&printers](const HttpRequest&, const PathParams& p) {
+               Printer& printer = printers.get(p.at("id"));
+               printer.disconnect();
+               return status(202, printer);
+             });
   // {"job": ID} prints a finished job's G-code, {"file": NAME} an uploaded file, {"resume": PRINT}
   // the rest of an interrupted print (heaters, position and modes restored first).
   router.add("POST", "/api/v1/printers/{id}/print", Access::key,
              [&printers, &config](const HttpRequest& r, const PathParams& p) {
                Printer& printer = printers.get(p.at("id"));
-               const json body = parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
+               const json body =
+                   parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
                long long print = 0;
-               if (body.size() != 1) throw ApiError(400, "bad_request", "give exactly one of 'job', 'file' and 'resume'");
+               if (body.size() != 1)
+                 throw ApiError(400, "bad_request", "give exactly one of 'job', 'file' and 'resume'");
                if (body.contains("job") && body.at("job").is_string()) {
                  print = printers.print_job(printer, body.at("job").get<std::string>());
                } else if (body.contains("file") && body.at("file").is_string()) {
@@ -88,16 +99,19 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
                } else if (body.contains("resume") && body.at("resume").is_number_integer()) {
                  print = printers.resume(printer, body.at("resume").get<long long>());
                } else {
-                 throw ApiError(400, "bad_request", "expected {\"job\": \"ID\"}, {\"file\": \"NAME\"} or {\"resume\": PRINT_ID}");
+                 throw ApiError(400, "bad_request",
+                                "expected {\"job\": \"ID\"}, {\"file\": \"NAME\"} or {\"resume\": PRINT_ID}");
                }
                HttpResponse out = status(202, printer);
-               out.headers.emplace_back("Location", "/api/v1/printers/" + printer.id() + "/prints?print=" + std::to_string(print));
+               out.headers.emplace_back(
+                   "Location", "/api/v1/printers/" + printer.id() + "/prints?print=" + std::to_string(print));
                return out;
              });
-  const std::pair<const char*, void (Printer::*)()> actions[] = {{"pause", &Printer::pause},
-                                                                 {"resume", &Printer::resume},
-                                                                 {"cancel", &Printer::cancel},
-                                                                 {"emergency-stop", &Printer::emergency_stop}};
+  const std::pair<const char*, void (Printer::*)()> actions[] = {
+      {"pause", &Printer::pause},
+      {"resume", &Printer::resume},
+      {"cancel", &Printer::cancel},
+      {"emergency-stop", &Printer::emergency_stop}};
   for (const auto& [name, action] : actions) {
     router.add("POST", std::string("/api/v1/printers/{id}/") + name, Access::key,
                [&printers, action = action](const HttpRequest&, const PathParams& p) {
@@ -109,8 +123,8 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
   router.add("POST", "/api/v1/printers/{id}/command", Access::key,
              [&printers, &config](const HttpRequest& r, const PathParams& p) {
                Printer& printer = printers.get(p.at("id"));
-               printer.command(parse_commands(
-                   parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth))));
+               printer.command(parse_commands(parse_json_body(
+                   r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth))));
                return status(202, printer);
              });
 }

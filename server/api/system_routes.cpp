@@ -14,8 +14,11 @@ void add_system_routes(Router& router) {
   router.add("GET", "/api/version", Access::open, [](const HttpRequest&, const PathParams&) {
     const std::string v(version());
     return HttpResponse::text(200,
-                              json_text(nlohmann::json{{"api", "0.1"}, {"server", "1.9.0"}, {"text", "OctoPrint 1.9.0 (salientd " + v + ")"},
-                                             {"salientd", v}, {"salient_api", api_level}}),
+                              json_text(nlohmann::json{{"api", "0.1"},
+                                                       {"server", "1.9.0"},
+                                                       {"text", "OctoPrint 1.9.0 (salientd " + v + ")"},
+                                                       {"salientd", v},
+                                                       {"salient_api", api_level}}),
                               "application/json");
   });
 }

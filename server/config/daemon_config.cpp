@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "core/common/toml_table_reader.hpp"
+#include "server/printers/sim_process.hpp"
 
 namespace salient::server {
 
@@ -12,7 +13,9 @@ using core::InputError;
 using core::InputLocation;
 using core::TableReader;
 
-DaemonConfig default_daemon_config() { return DaemonConfig{}; }
+DaemonConfig default_daemon_config() {
+  return DaemonConfig{};
+}
 
 DaemonConfig parse_daemon_config(std::string_view text, const std::string& source) {
   const toml::table root = core::parse_toml(text, source);
@@ -44,7 +47,9 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
     c.printers.clear();
     std::set<std::string> ids;
     for (const toml::node& n : *printers) {
-      if (!n.is_table()) throw InputError(source, InputLocation::at_line(core::line_of(n)), "'printers' entries must be tables");
+      if (!n.is_table())
+        throw InputError(source, InputLocation::at_line(core::line_of(n)),
+                         "'printers' entries must be tables");
       PrinterConfig p;
       TableReader r(*n.as_table(), "printers.", source);
       r.text("id", p.id);
@@ -57,13 +62,24 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
       r.boolean("autoconnect", p.autoconnect);
       r.reject_unknown();
       const InputLocation at = InputLocation::at_line(core::line_of(n));
-      if (p.id.empty() || p.id.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-_") != std::string::npos)
-        throw InputError(source, at, "'printers.id' must be lower-case letters, digits, '-' or '_', got '" + p.id + "'");
+      if (p.id.empty() ||
+          p.id.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789-_") != std::string::npos)
+        throw InputError(source, at,
+                         "'printers.id' must be lower-case letters, digits, '-' or '_', got '" + p.id + "'");
       if (!ids.insert(p.id).second) throw InputError(source, at, "printer id '" + p.id + "' appears twice");
       if (p.kind != "sim" && p.kind != "serial" && p.kind != "tcp")
         throw InputError(source, at, "'printers.kind' must be sim, serial or tcp, got '" + p.kind + "'");
-      if (p.kind != "sim" && p.port.empty()) throw InputError(source, at, "printer '" + p.id + "' needs a 'port'");
-      if (p.protocol != "marlin") throw InputError(source, at, "'printers.protocol' must be marlin (s3g comes later)");
+      if (p.kind != "sim" && p.port.empty())
+        throw InputError(source, at, "printer '" + p.id + "' needs a 'port'");
+      if (p.kind == "sim") {
+        try {
+          split_args(p.sim_args);  // checked now rather than at the first connect
+        } catch (const std::invalid_argument& e) {
+          throw InputError(source, at, "'printers.sim_args': " + std::string(e.what()));
+        }
+      }
+      if (p.protocol != "marlin")
+        throw InputError(source, at, "'printers.protocol' must be marlin (s3g comes later)");
       c.printers.push_back(std::move(p));
     }
   }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <nlohmann/json.hpp>
+
 #include "server/http/json_text.hpp"
 
 namespace salient::server {
@@ -28,8 +29,10 @@ bool EventHub::valid_topic(const std::string& topic) {
   return false;
 }
 
-std::string EventHub::message(const std::string& topic, const std::string& type, const std::string& data_json) {
-  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+std::string EventHub::message(const std::string& topic, const std::string& type,
+                              const std::string& data_json) {
+  const double now =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   std::string out = "{\"type\":";
   out += json_text(nlohmann::json(type));
   if (!topic.empty()) {
@@ -51,8 +54,8 @@ std::shared_ptr<Subscription> EventHub::subscribe(std::function<void()> wake) {
   return s;
 }
 
-void EventHub::publish(const std::vector<std::string>& topics, const std::string& type, const std::string& data_json,
-                       Delivery delivery) {
+void EventHub::publish(const std::vector<std::string>& topics, const std::string& type,
+                       const std::string& data_json, Delivery delivery) {
   std::vector<std::shared_ptr<Subscription>> targets;
   {
     std::lock_guard lock(mutex_);
@@ -167,11 +170,14 @@ void Subscription::receive(const std::string& text) {
   } catch (const std::invalid_argument& e) {
     return push_reply(error_reply(std::string("the message is ") + e.what()));
   }
-  if (!j.is_object()) return push_reply(error_reply("expected a JSON object like {\"subscribe\": [\"jobs\"]}"));
+  if (!j.is_object())
+    return push_reply(error_reply("expected a JSON object like {\"subscribe\": [\"jobs\"]}"));
   for (const auto& [key, value] : j.items()) {
     if (key != "subscribe" && key != "unsubscribe")
-      return push_reply(error_reply("unknown field '" + key.substr(0, 64) + "': use subscribe or unsubscribe"));
-    if (!value.is_array() || !std::all_of(value.begin(), value.end(), [](const auto& t) { return t.is_string(); }))
+      return push_reply(
+          error_reply("unknown field '" + key.substr(0, 64) + "': use subscribe or unsubscribe"));
+    if (!value.is_array() ||
+        !std::all_of(value.begin(), value.end(), [](const auto& t) { return t.is_string(); }))
       return push_reply(error_reply("'" + key + "' must be an array of topic names"));
     // The same topic twice is one topic: folded here, so that no list repeats its snapshot.
     std::set<std::string> asked;
@@ -198,7 +204,8 @@ std::function<void()> Subscription::offer(const std::vector<std::string>& topics
                                           Delivery delivery) {
   std::lock_guard lock(mutex_);
   if (closed_ || !overflow_.empty() || topics.empty()) return {};
-  if (std::none_of(topics.begin(), topics.end(), [&](const std::string& t) { return topics_.count(t) > 0; })) return {};
+  if (std::none_of(topics.begin(), topics.end(), [&](const std::string& t) { return topics_.count(t) > 0; }))
+    return {};
   const std::string& subject = topics.back();
   const bool was_empty = head_ == queue_.size();
   if (delivery != Delivery::always) {
@@ -211,7 +218,8 @@ std::function<void()> Subscription::offer(const std::vector<std::string>& topics
       queue_[i].text = text;
       return {};
     }
-    if (queue_.size() - head_ >= hub_.options_.progress_limit || bytes_ + text.size() > hub_.options_.byte_limit) {
+    if (queue_.size() - head_ >= hub_.options_.progress_limit ||
+        bytes_ + text.size() > hub_.options_.byte_limit) {
       ++dropped_;
       return {};
     }

@@ -18,8 +18,8 @@
 namespace salient::server {
 
 struct EventHubOptions {
-  std::size_t progress_limit = 256;  // queued events beyond which progress is dropped
-  std::size_t state_limit = 4096;    // queued state changes beyond which the client is cut off
+  std::size_t progress_limit = 256;   // queued events beyond which progress is dropped
+  std::size_t state_limit = 4096;     // queued state changes beyond which the client is cut off
   std::size_t byte_limit = 8u << 20;  // queued bytes of any kind: the same, counting replies and snapshots
 };
 
@@ -62,7 +62,8 @@ class Subscription : public WebSocketChannel {
     Delivery delivery = Delivery::always;
   };
   // Queues an event; returns the wake function to call (empty: no need).
-  std::function<void()> offer(const std::vector<std::string>& topics, const std::string& text, Delivery delivery);
+  std::function<void()> offer(const std::vector<std::string>& topics, const std::string& text,
+                              Delivery delivery);
   void push_reply(std::string text);
   // Queues a message that must not be dropped (a state change, a snapshot, a reply); past the
   // state limit the client is cut off instead. False then. Under mutex_.

@@ -62,10 +62,11 @@ class ConnectionSlot {
   static std::shared_ptr<ConnectionSlot> take(Shared& shared, const std::string& address, std::string& why) {
     std::lock_guard lock(shared.limits_mutex);
     if (shared.connections >= shared.options.max_connections)
-      why = "the connection limit (" + std::to_string(shared.options.max_connections) + ", server.max_connections)";
+      why = "the connection limit (" + std::to_string(shared.options.max_connections) +
+            ", server.max_connections)";
     else if (shared.per_address[address] >= shared.options.max_connections_per_address)
-      why = "the limit of " + std::to_string(shared.options.max_connections_per_address) + " connections from " +
-            address + " (server.max_connections_per_address)";
+      why = "the limit of " + std::to_string(shared.options.max_connections_per_address) +
+            " connections from " + address + " (server.max_connections_per_address)";
     if (!why.empty()) {
       if (shared.per_address[address] == 0) shared.per_address.erase(address);
       return nullptr;
@@ -117,8 +118,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   }
 
   void stop() {
-    asio::post(ws_.get_executor(),
-               [self = shared_from_this()] { self->close(websocket::close_code::going_away, "server stopping"); });
+    asio::post(ws_.get_executor(), [self = shared_from_this()] {
+      self->close(websocket::close_code::going_away, "server stopping");
+    });
   }
 
  private:
@@ -232,9 +234,10 @@ class Session : public std::enable_shared_from_this<Session> {
     route_ = "unmatched";
     method_ = "OTHER";
     stream_.expires_after(shared_.options.timeout);
-    http::async_read_header(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      self->guarded([&] { self->on_header(ec); });
-    });
+    http::async_read_header(stream_, buffer_, *parser_,
+                            [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                              self->guarded([&] { self->on_header(ec); });
+                            });
   }
 
   bool read_failed(beast::error_code ec) {
@@ -244,9 +247,11 @@ class Session : public std::enable_shared_from_this<Session> {
         ec == asio::error::connection_reset || ec == beast::error::timeout)
       close();
     else if (ec == http::error::header_limit)
-      reply_error(431, "header_too_large", "the request's header exceeds " + std::to_string(kHeaderLimit) + " bytes");
+      reply_error(431, "header_too_large",
+                  "the request's header exceeds " + std::to_string(kHeaderLimit) + " bytes");
     else if (ec == http::error::body_limit)
-      reply_error(413, "too_large", "the body exceeds the limit of " + std::to_string(shared_.options.body_limit) + " bytes");
+      reply_error(413, "too_large",
+                  "the body exceeds the limit of " + std::to_string(shared_.options.body_limit) + " bytes");
     else
       reply_error(400, "bad_request", "malformed HTTP request: " + ec.message());
     return true;
@@ -277,21 +282,24 @@ class Session : public std::enable_shared_from_this<Session> {
     // An upgrade is judged by the WebSocket acceptor (its own paths and key); anything else by the router.
     const bool upgrade = websocket::is_upgrade(in) && shared_.options.websocket;
     if (!upgrade)
-      if (auto refused = shared_.router.refusal(request_, &route_)) return respond(std::move(*refused), false);
+      if (auto refused = shared_.router.refusal(request_, &route_))
+        return respond(std::move(*refused), false);
     if (parser_->is_done()) return on_request();
     const auto length = parser_->content_length();
     if (!reserve_body(length ? *length : shared_.options.body_limit)) {
-      HttpResponse busy = error_response(503, "busy", "too many request bodies are being received: try again shortly");
+      HttpResponse busy =
+          error_response(503, "busy", "too many request bodies are being received: try again shortly");
       busy.headers.emplace_back("Retry-After", "5");
       return respond(std::move(busy), false);
     }
     if (beast::iequals(in[http::field::expect], "100-continue")) {
       auto go_on = std::make_shared<http::response<http::empty_body>>(http::status::continue_, 11);
       stream_.expires_after(shared_.options.timeout);
-      return http::async_write(stream_, *go_on, [self = shared_from_this(), go_on](beast::error_code ec, std::size_t) {
-        if (ec) return self->close();
-        self->guarded([&] { self->read_body(); });
-      });
+      return http::async_write(stream_, *go_on,
+                               [self = shared_from_this(), go_on](beast::error_code ec, std::size_t) {
+                                 if (ec) return self->close();
+                                 self->guarded([&] { self->read_body(); });
+                               });
     }
     read_body();
   }
@@ -300,11 +308,12 @@ class Session : public std::enable_shared_from_this<Session> {
     reading_body_ = !parser_->is_done();
     if (!reading_body_) return on_request();
     stream_.expires_after(shared_.options.timeout);
-    http::async_read_some(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      self->guarded([&] {
-        if (!self->read_failed(ec)) self->read_body();
-      });
-    });
+    http::async_read_some(stream_, buffer_, *parser_,
+                          [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                            self->guarded([&] {
+                              if (!self->read_failed(ec)) self->read_body();
+                            });
+                          });
   }
 
   void on_request() {
@@ -339,7 +348,8 @@ class Session : public std::enable_shared_from_this<Session> {
     keep_alive_ = keep_alive && parser_->is_done() && !closing_;
     const bool head = parser_->is_header_done() && parser_->get().method() == http::verb::head;
     write(std::move(response), head);
-    if (shared_.options.on_response) shared_.options.on_response(method_, route_, response_status_, elapsed());
+    if (shared_.options.on_response)
+      shared_.options.on_response(method_, route_, response_status_, elapsed());
   }
 
   // A request that could not be read: the stream is not in a known state any more.
@@ -380,11 +390,12 @@ class Session : public std::enable_shared_from_this<Session> {
     if (!linger_started_) linger_started_ = true, linger_until_ = Clock::now() + kLingerTime;
     if (lingered_ >= kLingerBytes || Clock::now() >= linger_until_) return close();
     stream_.expires_at(linger_until_);
-    stream_.async_read_some(asio::buffer(scratch_), [self = shared_from_this()](beast::error_code ec, std::size_t n) {
-      self->lingered_ += n;
-      if (ec) return self->close();
-      self->linger();
-    });
+    stream_.async_read_some(asio::buffer(scratch_),
+                            [self = shared_from_this()](beast::error_code ec, std::size_t n) {
+                              self->lingered_ += n;
+                              if (ec) return self->close();
+                              self->linger();
+                            });
   }
 
   void close() {
@@ -502,16 +513,18 @@ struct HttpServer::Impl {
   }
 
   void refuse(tcp::socket socket, const std::string& why) {
-    static const std::string body = R"({"error":{"code":"busy","message":"too many connections: try again shortly"}})";
-    static const std::string reply = "HTTP/1.1 503 Service Unavailable\r\nServer: salientd\r\nContent-Type: "
-                                     "application/json\r\nRetry-After: 5\r\nConnection: close\r\nContent-Length: " +
-                                     std::to_string(body.size()) + "\r\n\r\n" + body;
+    static const std::string body =
+        R"({"error":{"code":"busy","message":"too many connections: try again shortly"}})";
+    static const std::string reply =
+        "HTTP/1.1 503 Service Unavailable\r\nServer: salientd\r\nContent-Type: "
+        "application/json\r\nRetry-After: 5\r\nConnection: close\r\nContent-Length: " +
+        std::to_string(body.size()) + "\r\n\r\n" + body;
     {
       std::lock_guard lock(shared.limits_mutex);
       ++shared.refused_since_log;
       if (Clock::now() - shared.last_refusal_log >= std::chrono::seconds(10)) {
-        shared.log("http refusing connections: " + why + " is reached; " + std::to_string(shared.refused_since_log) +
-                   " refused (503) since the last such line");
+        shared.log("http refusing connections: " + why + " is reached; " +
+                   std::to_string(shared.refused_since_log) + " refused (503) since the last such line");
         shared.refused_since_log = 0;
         shared.last_refusal_log = Clock::now();
       }

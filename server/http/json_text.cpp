@@ -11,7 +11,8 @@ std::string json_text(const nlohmann::json& j, int indent) {
 
 nlohmann::json parse_json_text(std::string_view text, std::size_t max_depth) {
   bool too_deep = false;
-  const nlohmann::json::parser_callback_t check = [&](int depth, nlohmann::json::parse_event_t, nlohmann::json&) {
+  const nlohmann::json::parser_callback_t check = [&](int depth, nlohmann::json::parse_event_t,
+                                                      nlohmann::json&) {
     // Called as each value starts, with how many containers hold it.
     if (static_cast<std::size_t>(depth) > max_depth) {
       too_deep = true;

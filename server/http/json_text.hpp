@@ -3,8 +3,8 @@
 // invalid UTF-8; here such bytes become U+FFFD instead, so no echo can abort a handler.
 #pragma once
 
-#include <nlohmann/json_fwd.hpp>
 #include <cstddef>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <string_view>
 

@@ -19,24 +19,34 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-// The value of `key=` in a header's parameters: quoted ("a b") or bare.
+// The value of `key=` in a header's parameters (`form-data; name="a"; filename="b c"`): quoted,
+// with backslash escapes, or bare. Parameters are read one by one, so text inside a quoted value
+// ("a; name=x") is never taken for a parameter of its own.
 std::optional<std::string> parameter(std::string_view header, std::string_view key) {
-  const std::string l = lower(header);
-  for (std::size_t at = l.find(key); at != std::string::npos; at = l.find(key, at + 1)) {
-    if (at > 0 && l[at - 1] != ' ' && l[at - 1] != ';') continue;
-    std::size_t v = at + key.size();
-    if (v >= header.size() || header[v] != '=') continue;
-    ++v;
+  std::size_t at = header.find(';');
+  while (at != std::string_view::npos && at < header.size()) {
+    ++at;  // past ';'
+    const std::size_t eq = header.find_first_of("=;", at);
+    if (eq == std::string_view::npos) return std::nullopt;
+    const std::string name = lower(trim(header.substr(at, eq - at)));
+    if (header[eq] == ';') {  // a parameter without a value
+      at = eq;
+      continue;
+    }
+    std::size_t v = eq + 1;
+    while (v < header.size() && header[v] == ' ') ++v;
+    std::string value;
     if (v < header.size() && header[v] == '"') {
-      std::string out;
       for (++v; v < header.size() && header[v] != '"'; ++v) {
         if (header[v] == '\\' && v + 1 < header.size()) ++v;
-        out += header[v];
+        value += header[v];
       }
-      return out;
+      at = header.find(';', v);
+    } else {
+      at = header.find(';', v);
+      value = std::string(trim(header.substr(v, at == std::string_view::npos ? at : at - v)));
     }
-    const std::size_t end = header.find(';', v);
-    return std::string(trim(header.substr(v, end == std::string_view::npos ? std::string_view::npos : end - v)));
+    if (name == key) return value;
   }
   return std::nullopt;
 }

@@ -1,6 +1,7 @@
 #include "server/http/router.hpp"
 
 #include <nlohmann/json.hpp>
+
 #include "server/http/json_text.hpp"
 
 namespace salient::server {
@@ -48,14 +49,16 @@ std::optional<HttpResponse> Router::refusal(const HttpRequest& request, std::str
     }
     if (route_name) *route_name = route.name;
     if (route.access == Access::key && authenticate_ && !authenticate_(request))
-      return error_response(401, "unauthorized", "an API key is required: X-Api-Key: KEY or Authorization: Bearer KEY");
+      return error_response(401, "unauthorized",
+                            "an API key is required: X-Api-Key: KEY or Authorization: Bearer KEY");
     return std::nullopt;
   }
   if (route_name) *route_name = "unmatched";
   if (!allowed.empty()) {
     // Outside text in the message is cut short: a method may be 10 KB of anything.
-    HttpResponse r = error_response(405, "method_not_allowed",
-                                    request.method.substr(0, 32) + " is not allowed on " + request.path.substr(0, 256));
+    HttpResponse r =
+        error_response(405, "method_not_allowed",
+                       request.method.substr(0, 32) + " is not allowed on " + request.path.substr(0, 256));
     r.headers.emplace_back("Allow", allowed);
     return r;
   }

@@ -53,7 +53,8 @@ class Router {
   // Turns an exception a handler let through (not an ApiError) into the response: a full disk
   // into 507, say. Without one, or when it returns nothing, it is a 500 that names no detail
   // (which may hold paths); `route` is the matched pattern, for the log.
-  using ExceptionMapper = std::function<std::optional<HttpResponse>(const std::exception&, const std::string& route)>;
+  using ExceptionMapper =
+      std::function<std::optional<HttpResponse>(const std::exception&, const std::string& route)>;
   void set_exception_mapper(ExceptionMapper mapper) { map_exception_ = std::move(mapper); }
 
   // 404 when no pattern matches, 405 (with Allow) when only the method is wrong, 401 without a

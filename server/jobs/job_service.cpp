@@ -11,10 +11,10 @@
 #include "core/mesh/mesh_reader.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
 #include "core/printer/printer_profile.hpp"
+#include "server/http/json_text.hpp"
 #include "server/http/router.hpp"
 #include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"
-#include "server/http/json_text.hpp"
 #include "server/store/sha256.hpp"
 
 namespace salient::server {
@@ -46,7 +46,11 @@ nlohmann::json segmentation_json(const core::SliceResult& r) {
   const core::SegOptResult& g = *r.segmentation;
   nlohmann::json regions = nlohmann::json::array();
   for (const core::PlanRegion& region : g.regions)
-    regions.push_back({{"side", region.side}, {"sub", region.sub}, {"layers", region.layers()}, {"E", region.error}, {"epsilon", region.epsilon}});
+    regions.push_back({{"side", region.side},
+                       {"sub", region.sub},
+                       {"layers", region.layers()},
+                       {"E", region.error},
+                       {"epsilon", region.epsilon}});
   return {{"cut", g.cut},
           {"note", g.note},
           {"whole_seconds", g.whole_seconds},
@@ -80,21 +84,25 @@ core::PrinterProfile printer_for(const std::string& id) {
 }  // namespace
 
 std::string sanitize_filename(const std::string& name) {
-  std::string base = name.substr(name.find_last_of("/\\") == std::string::npos ? 0 : name.find_last_of("/\\") + 1);
+  std::string base =
+      name.substr(name.find_last_of("/\\") == std::string::npos ? 0 : name.find_last_of("/\\") + 1);
   std::string out;
   for (char c : base) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' || c == '-' || c == '_';
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '.' ||
+                    c == '-' || c == '_';
     out += ok ? c : '_';
   }
-  while (!out.empty() && out.front() == '.') out.erase(0, 1);  // no hidden files, no ".."
-  if (out.size() > 100) out = out.substr(out.size() - 100);
+  if (out.size() > 100) out = out.substr(out.size() - 100);     // the end keeps the extension
+  while (!out.empty() && out.front() == '.') out.erase(0, 1);  // then: no hidden files, no ".."
   return out.empty() ? "model" : out;
 }
 
 JobService::JobService(Store& store, JobServiceOptions options, std::function<void(const Job&)> on_change)
     : store_(store), options_(options), on_change_(std::move(on_change)) {}
 
-JobService::~JobService() { stop(); }
+JobService::~JobService() {
+  stop();
+}
 
 void JobService::start() {
   JobStore(store_.db()).requeue_running();
@@ -123,7 +131,8 @@ void JobService::changed(const std::string& id) {
   if (auto j = JobStore(store_.db()).get(id)) on_change_(*j);
 }
 
-JobService::Submitted JobService::submit(const std::string& filename, const std::string& bytes, const std::string& settings_json) {
+JobService::Submitted JobService::submit(const std::string& filename, const std::string& bytes,
+                                         const std::string& settings_json) {
   const JobSettings settings = parse_job_settings(settings_json, options_.max_json_depth);
   printer_for(settings.printer);
   const std::string name = sanitize_filename(filename);
@@ -140,7 +149,8 @@ JobService::Submitted JobService::submit(const std::string& filename, const std:
   JobStore jobs(store_.db());
   if (auto done = jobs.find_done(digest, settings_digest)) return {*done, true};
   if (jobs.count(JobState::queued) >= options_.queue_limit)
-    throw ApiError(429, "queue_full", "the job queue is full (" + std::to_string(options_.queue_limit) + " waiting)")
+    throw ApiError(429, "queue_full",
+                   "the job queue is full (" + std::to_string(options_.queue_limit) + " waiting)")
         .with_header("Retry-After", "30");
   Job job;
   {
@@ -161,7 +171,8 @@ bool JobService::cancel(const std::string& id) {
       return true;
     }
   }
-  const bool did = JobStore(store_.db()).finish(id, JobState::cancelled, std::nullopt, std::nullopt, now_seconds());
+  const bool did =
+      JobStore(store_.db()).finish(id, JobState::cancelled, std::nullopt, std::nullopt, now_seconds());
   if (did) changed(id);
   return did;
 }
@@ -203,18 +214,23 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
   std::string last_phase;
   double last_progress = -1;
   auto last_write = std::chrono::steady_clock::now();
-  bool oriented = false;  // with "up": "auto", "orient" takes the first 30 % and the rest follows
+  bool oriented = false;    // with "up": "auto", "orient" takes the first 30 % and the rest follows
   bool segmenting = false;  // with "segment", its own progress stands for the planners' inside it
   core::RunContext run{token.get(), [&](std::string_view reported, double fraction) {
                          std::lock_guard lock(progress_mutex);  // reported from the solvers' threads too
-                         if (reported == "segment") segmenting = true;
-                         else if (segmenting && reported != "toolpaths" && reported != "gcode") return;
+                         if (reported == "segment")
+                           segmenting = true;
+                         else if (segmenting && reported != "toolpaths" && reported != "gcode")
+                           return;
                          Span s = span_of(reported);
-                         if (reported == "orient") s = {"orient", 0.0, 0.3}, oriented = true;
-                         else if (oriented) s.from = 0.3 + 0.7 * s.from, s.to = 0.3 + 0.7 * s.to;
+                         if (reported == "orient")
+                           s = {"orient", 0.0, 0.3}, oriented = true;
+                         else if (oriented)
+                           s.from = 0.3 + 0.7 * s.from, s.to = 0.3 + 0.7 * s.to;
                          const double overall = s.from + (s.to - s.from) * std::clamp(fraction, 0.0, 1.0);
                          const auto t = std::chrono::steady_clock::now();
-                         if (last_phase == s.phase && (overall - last_progress < 0.02 || t - last_write < std::chrono::milliseconds(100)))
+                         if (last_phase == s.phase && (overall - last_progress < 0.02 ||
+                                                       t - last_write < std::chrono::milliseconds(100)))
                            return;
                          last_phase = s.phase, last_progress = overall, last_write = t;
                          try {
@@ -237,25 +253,27 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     settings.slice.artefacts = true;
     const core::SliceResult r = core::slice_model(settings.slice, printer, run);
     const std::string gcode = store_.files().put(r.gcode);
-    const nlohmann::json plan = {{"model", r.model_name}, {"z", r.z}, {"layers", r.layers}, {"finest_layers", r.finest_layers},
+    const nlohmann::json plan = {{"model", r.model_name}, {"z", r.z},
+                                 {"layers", r.layers},    {"finest_layers", r.finest_layers},
                                  {"error", r.error},      {"rsmd", r.rsmd}};
     const std::string plan_digest = store_.files().put(json_text(plan, 2));
-    result = json_text(nlohmann::json{{"layers", r.layers},
-                            {"finest_layers", r.finest_layers},
-                            {"saving", r.finest_layers > 0 ? 1.0 - double(r.layers) / r.finest_layers : 0.0},
-                            {"print_seconds", r.print_seconds},
-                            {"filament_mm", r.filament_mm},
-                            {"error", r.error},
-                            {"rsmd", r.rsmd},
-                            {"open_contours", r.open_contours},
-                            {"orientation", orientation_json(r)},
-                            {"segmentation", segmentation_json(r)},
-                            {"printer", printer.id},
-                            {"gcode", gcode},
-                            {"plan", plan_digest},
-                            {"plot", store_.files().put(r.plot_svg)},
-                            {"model", store_.files().put(r.model_3mf)},
-                            {"saliency", store_.files().put(r.saliency_ply)}});
+    result = json_text(
+        nlohmann::json{{"layers", r.layers},
+                       {"finest_layers", r.finest_layers},
+                       {"saving", r.finest_layers > 0 ? 1.0 - double(r.layers) / r.finest_layers : 0.0},
+                       {"print_seconds", r.print_seconds},
+                       {"filament_mm", r.filament_mm},
+                       {"error", r.error},
+                       {"rsmd", r.rsmd},
+                       {"open_contours", r.open_contours},
+                       {"orientation", orientation_json(r)},
+                       {"segmentation", segmentation_json(r)},
+                       {"printer", printer.id},
+                       {"gcode", gcode},
+                       {"plan", plan_digest},
+                       {"plot", store_.files().put(r.plot_svg)},
+                       {"model", store_.files().put(r.model_3mf)},
+                       {"saliency", store_.files().put(r.saliency_ply)}});
   } catch (const core::Cancelled&) {
     end = JobState::cancelled;
   } catch (const core::InputError& e) {

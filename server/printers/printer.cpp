@@ -5,10 +5,10 @@
 #include "protocol/marlin/line_codec.hpp"
 #include "protocol/marlin/resume_prelude.hpp"
 #include "protocol/serial/marlin_link.hpp"
+#include "server/http/json_text.hpp"
 #include "server/http/router.hpp"
 #include "server/printers/sim_process.hpp"
 #include "server/printers/terminal_tap.hpp"
-#include "server/http/json_text.hpp"
 
 namespace salient::server {
 namespace {
@@ -22,7 +22,9 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-json optional_number(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+json optional_number(const std::optional<double>& v) {
+  return v ? json(*v) : json(nullptr);
+}
 
 json record_json(const PrintRecord& p) {
   return {{"id", p.id},
@@ -36,8 +38,8 @@ json record_json(const PrintRecord& p) {
           {"started_at", p.started_at},
           {"finished_at", p.finished_at ? json(*p.finished_at) : json(nullptr)},
           // What a restart or a pulled cable leaves: where `POST …/print {"resume": id}` goes on from.
-          {"resumable", p.state != "finished" && p.state != "cancelled" && p.state != "printing" && p.state != "paused" &&
-                            p.confirmed > 0 && p.confirmed < p.total}};
+          {"resumable", p.state != "finished" && p.state != "cancelled" && p.state != "printing" &&
+                            p.state != "paused" && p.confirmed > 0 && p.confirmed < p.total}};
 }
 
 std::vector<std::string> split_lines(const std::string& text) {
@@ -72,11 +74,13 @@ long long check_printable(const std::string& name, const std::string& gcode) {
   const std::vector<std::string> lines = split_lines(gcode);
   // A line the firmware cannot take would stall the print halfway: refused before it starts.
   if (auto bad = protocol::marlin::find_unsendable(lines))
-    throw ApiError(422, "not_gcode", name + " line " + std::to_string(bad->line) + " cannot be sent: " + bad->why);
+    throw ApiError(422, "not_gcode",
+                   name + " line " + std::to_string(bad->line) + " cannot be sent: " + bad->why);
   long long commands = 0;
   for (const std::string& line : lines)
     if (!protocol::marlin::strip_comment(line).empty()) ++commands;
-  if (commands == 0) throw ApiError(422, "no_commands", name + " holds no G-code commands (only comments or blank lines)");
+  if (commands == 0)
+    throw ApiError(422, "no_commands", name + " holds no G-code commands (only comments or blank lines)");
   return commands;
 }
 
@@ -85,7 +89,9 @@ Printer::Printer(PrinterConfig config, Store& store, Hooks hooks)
   last_ = PrintStore(store_.db()).latest(config_.id);
 }
 
-Printer::~Printer() { stop(); }
+Printer::~Printer() {
+  stop();
+}
 
 void Printer::start() {
   std::lock_guard lock(mutex_);
@@ -142,19 +148,20 @@ std::string Printer::status_json() const {
     print["elapsed"] = elapsed;
     print["eta"] = fraction > 0.01 ? json(elapsed * (1 - fraction) / fraction) : json(nullptr);
   }
-  return json_text(json{{"id", config_.id},
-              {"kind", config_.kind},
-              {"protocol", config_.protocol},
-              {"profile", config_.profile},
-              {"state", state_},
-              {"error", error_.empty() ? json(nullptr) : json(error_)},
-              {"firmware", firmware_.empty() ? json(nullptr) : json(firmware_)},
-              {"device", device_.empty() ? json(nullptr) : json(device_)},
-              {"temperatures",
-               {{"hotend", {{"actual", optional_number(hotend_)}, {"target", optional_number(hotend_target_)}}},
-                {"bed", {{"actual", optional_number(bed_)}, {"target", optional_number(bed_target_)}}}}},
-              {"print", print},
-              {"last_print", last_ ? record_json(*last_) : json(nullptr)}});
+  return json_text(
+      json{{"id", config_.id},
+           {"kind", config_.kind},
+           {"protocol", config_.protocol},
+           {"profile", config_.profile},
+           {"state", state_},
+           {"error", error_.empty() ? json(nullptr) : json(error_)},
+           {"firmware", firmware_.empty() ? json(nullptr) : json(firmware_)},
+           {"device", device_.empty() ? json(nullptr) : json(device_)},
+           {"temperatures",
+            {{"hotend", {{"actual", optional_number(hotend_)}, {"target", optional_number(hotend_target_)}}},
+             {"bed", {{"actual", optional_number(bed_)}, {"target", optional_number(bed_target_)}}}}},
+           {"print", print},
+           {"last_print", last_ ? record_json(*last_) : json(nullptr)}});
 }
 
 void Printer::connect() {
@@ -187,7 +194,8 @@ long long Printer::print(const PrintRequest& request) {
 long long Printer::start_print(const PrintRequest& request) {
   const auto refuse_unless_ready = [this] {
     if (state_ != "operational" || print_wanted_)
-      conflict(config_.id, state_ == "operational" ? std::string("is starting a print") : not_ready(state_, error_));
+      conflict(config_.id,
+               state_ == "operational" ? std::string("is starting a print") : not_ready(state_, error_));
   };
   {
     std::lock_guard lock(mutex_);
@@ -198,8 +206,9 @@ long long Printer::start_print(const PrintRequest& request) {
   c.total = check_printable(request.filename, store_.files().read(request.file_digest));
   std::lock_guard lock(mutex_);
   refuse_unless_ready();  // another request may have started one meanwhile
-  c.record = PrintStore(store_.db()).create(config_.id, request.job_id, request.file_digest, request.filename, c.total,
-                                            now_seconds());
+  c.record =
+      PrintStore(store_.db())
+          .create(config_.id, request.job_id, request.file_digest, request.filename, c.total, now_seconds());
   c.confirmed = static_cast<long long>(request.resume_from);
   c.started = Clock::now();
   print_wanted_ = request;
@@ -235,7 +244,8 @@ void Printer::resume() {
 void Printer::cancel() {
   {
     std::lock_guard lock(mutex_);
-    if ((state_ != "printing" && state_ != "paused") || !link_) conflict(config_.id, "is " + state_ + ": nothing to cancel");
+    if ((state_ != "printing" && state_ != "paused") || !link_)
+      conflict(config_.id, "is " + state_ + ": nothing to cancel");
     link_->cancel();
     cancel_requested_ = true;
     state_ = "cancelling";
@@ -249,8 +259,10 @@ void Printer::emergency_stop() {
     if (!link_) conflict(config_.id, not_ready(state_, error_));
     // At once into whatever the link is streaming (a print, or console commands such as a long
     // G28); between them, the thread sends it within its next 100 ms.
-    if (state_ == "printing" || state_ == "paused" || state_ == "cancelling" || commands_running_) link_->emergency_stop();
-    else estop_wanted_ = true;
+    if (state_ == "printing" || state_ == "paused" || state_ == "cancelling" || commands_running_)
+      link_->emergency_stop();
+    else
+      estop_wanted_ = true;
   }
   wake_.notify_all();
 }
@@ -259,10 +271,12 @@ void Printer::command(const std::vector<std::string>& commands) {
   {
     std::lock_guard lock(mutex_);
     if (state_ != "operational" || print_wanted_)
-      conflict(config_.id, state_ == "printing" || state_ == "paused" ? "is " + state_ + ": commands go between prints"
-                                                                      : not_ready(state_, error_));
+      conflict(config_.id, state_ == "printing" || state_ == "paused"
+                               ? "is " + state_ + ": commands go between prints"
+                               : not_ready(state_, error_));
     if (commands_wanted_.size() >= 16)
-      throw ApiError(429, "busy", "printer " + config_.id + " has 16 command batches waiting: try again shortly")
+      throw ApiError(429, "busy",
+                     "printer " + config_.id + " has 16 command batches waiting: try again shortly")
           .with_header("Retry-After", "2");
     commands_wanted_.push_back(commands);
   }
@@ -322,10 +336,12 @@ void Printer::run() {
           std::lock_guard done(mutex_);
           commands_running_ = false;
         }
-        if (r.disconnected) close_link("error", r.reason);
+        if (r.disconnected)
+          close_link("error", r.reason);
         else if (r.state == marlin::SessionState::failed)
-          close_link("error", r.reason == "emergency stop" ? "emergency stop (M112): the firmware halted; connect again to go on"
-                                                           : r.reason);
+          close_link("error", r.reason == "emergency stop"
+                                  ? "emergency stop (M112): the firmware halted; connect again to go on"
+                                  : r.reason);
       } else {
         link_->idle(std::chrono::milliseconds(100), on_event);
       }
@@ -454,8 +470,9 @@ void Printer::run_print(const PrintRequest& request, long long print_id,
   bool interrupted = false;
   try {
     const std::vector<std::string> gcode = split_lines(store_.files().read(request.file_digest));
-    const std::vector<std::string> prelude =
-        request.resume_from > 0 ? marlin::resume_prelude(gcode, request.resume_from) : std::vector<std::string>{};
+    const std::vector<std::string> prelude = request.resume_from > 0
+                                                 ? marlin::resume_prelude(gcode, request.resume_from)
+                                                 : std::vector<std::string>{};
     result = link_->print(gcode, on_event, request.resume_from, prelude);
     bool cancelled = false;
     {
@@ -464,10 +481,17 @@ void Printer::run_print(const PrintRequest& request, long long print_id,
       cancelled = cancel_requested_;
     }
     switch (result.state) {
-      case marlin::SessionState::finished: state = "finished"; break;
-      case marlin::SessionState::cancelled: state = interrupted ? "interrupted" : "cancelled"; break;
-      default:  // failed: a cancel that had to halt the firmware, or whose printer went silent, is still a cancel
-        state = cancelled || result.halted ? "cancelled" : interrupted || result.disconnected ? "interrupted" : "failed";
+      case marlin::SessionState::finished:
+        state = "finished";
+        break;
+      case marlin::SessionState::cancelled:
+        state = interrupted ? "interrupted" : "cancelled";
+        break;
+      default:  // failed: a cancel that had to halt the firmware, or whose printer went silent, is still a
+                // cancel
+        state = cancelled || result.halted           ? "cancelled"
+                : interrupted || result.disconnected ? "interrupted"
+                                                     : "failed";
         break;
     }
     if (interrupted && result.reason.empty()) result.reason = "the daemon stopped during the print";
@@ -487,11 +511,13 @@ void Printer::run_print(const PrintRequest& request, long long print_id,
     std::lock_guard lock(mutex_);
     if (!record && current_) {
       record = current_->record;
-      record->state = state, record->confirmed = static_cast<long long>(result.confirmed), record->reason = reason;
+      record->state = state, record->confirmed = static_cast<long long>(result.confirmed),
+      record->reason = reason;
     }
     last_ = record;
     current_.reset();
-    counters_.lines_sent += static_cast<long long>(result.confirmed - std::min(result.confirmed, request.resume_from));
+    counters_.lines_sent +=
+        static_cast<long long>(result.confirmed - std::min(result.confirmed, request.resume_from));
     counters_.lines_resent += static_cast<long long>(result.lines_resent);
     if (state == "finished") ++counters_.prints_finished;
     if (state == "failed" || state == "interrupted") ++counters_.prints_failed;

@@ -50,8 +50,8 @@ struct PrinterCounters {
 class Printer {
  public:
   struct Hooks {
-    std::function<void(const Printer&, bool progress)> changed;        // state (false) or progress (true)
-    std::function<bool()> terminal_wanted;                            // someone watches terminal/{id}
+    std::function<void(const Printer&, bool progress)> changed;  // state (false) or progress (true)
+    std::function<bool()> terminal_wanted;                       // someone watches terminal/{id}
     std::function<void(const Printer&, bool sent, std::string_view)> terminal;  // one line, either way
   };
 
@@ -112,7 +112,7 @@ class Printer {
 
   std::unique_ptr<SimProcess> sim_;
   std::unique_ptr<protocol::serial::MarlinLink> link_;  // owned by the thread; pointer read under mutex_
-  protocol::serial::MarlinLink* connecting_ = nullptr;   // during the handshake, under mutex_
+  protocol::serial::MarlinLink* connecting_ = nullptr;  // during the handshake, under mutex_
 
   // The status, under mutex_.
   std::string state_ = "disconnected", error_, firmware_, device_;

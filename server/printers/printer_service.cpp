@@ -3,16 +3,18 @@
 #include <chrono>
 #include <nlohmann/json.hpp>
 
+#include "server/http/json_text.hpp"
 #include "server/http/router.hpp"
 #include "server/store/job_store.hpp"
 #include "server/store/print_store.hpp"
-#include "server/http/json_text.hpp"
 
 namespace salient::server {
 
-PrinterService::PrinterService(const DaemonConfig& config, Store& store, EventHub& hub) : store_(store), hub_(hub) {
+PrinterService::PrinterService(const DaemonConfig& config, Store& store, EventHub& hub)
+    : store_(store), hub_(hub) {
   // Prints a previous run left unfinished: interrupted, before any printer reads its last print.
-  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const double now =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   PrintStore(store_.db()).mark_interrupted(now);
   for (const PrinterConfig& p : config.printers) {
     Printer::Hooks hooks;
@@ -23,15 +25,18 @@ PrinterService::PrinterService(const DaemonConfig& config, Store& store, EventHu
     const std::string terminal = "terminal/" + p.id;
     hooks.terminal_wanted = [&hub, terminal] { return hub.has_subscribers(terminal); };
     hooks.terminal = [&hub, terminal](const Printer&, bool sent, std::string_view line) {
-      hub.publish({terminal}, "terminal",
-                  json_text(nlohmann::json{{"direction", sent ? "sent" : "received"}, {"line", std::string(line)}}),
-                  Delivery::best_effort);
+      hub.publish(
+          {terminal}, "terminal",
+          json_text(nlohmann::json{{"direction", sent ? "sent" : "received"}, {"line", std::string(line)}}),
+          Delivery::best_effort);
     };
     printers_.push_back(std::make_unique<Printer>(p, store_, std::move(hooks)));
   }
 }
 
-PrinterService::~PrinterService() { stop(); }
+PrinterService::~PrinterService() {
+  stop();
+}
 
 void PrinterService::start() {
   for (auto& p : printers_) p->start();
@@ -51,7 +56,8 @@ long long PrinterService::print_job(Printer& printer, const std::string& job_id)
   const auto job = JobStore(store_.db()).get(job_id);
   if (!job) throw ApiError(404, "not_found", "no job " + job_id);
   if (job->state != JobState::done || !job->result)
-    throw ApiError(409, "not_ready", "job " + job_id + " is " + std::string(to_string(job->state)) + ": nothing to print");
+    throw ApiError(409, "not_ready",
+                   "job " + job_id + " is " + std::string(to_string(job->state)) + ": nothing to print");
   const nlohmann::json result = nlohmann::json::parse(*job->result);
   const std::string stem = job->filename.substr(0, job->filename.find_last_of('.'));
   return printer.print({job_id, result.at("gcode").get<std::string>(), stem + ".gcode", 0});
@@ -65,9 +71,11 @@ long long PrinterService::print_file(Printer& printer, const std::string& name) 
 
 long long PrinterService::resume(Printer& printer, long long print_id) {
   const auto p = PrintStore(store_.db()).get(print_id);
-  if (!p || p->printer_id != printer.id()) throw ApiError(404, "not_found", "no print " + std::to_string(print_id) + " on " + printer.id());
+  if (!p || p->printer_id != printer.id())
+    throw ApiError(404, "not_found", "no print " + std::to_string(print_id) + " on " + printer.id());
   if (p->state == "finished" || p->state == "printing" || p->state == "paused" || p->confirmed >= p->total)
-    throw ApiError(409, "not_resumable", "print " + std::to_string(print_id) + " is " + p->state + ": nothing to resume");
+    throw ApiError(409, "not_resumable",
+                   "print " + std::to_string(print_id) + " is " + p->state + ": nothing to resume");
   return printer.print({p->job_id, p->file_digest, p->filename, static_cast<std::size_t>(p->confirmed)});
 }
 

@@ -39,8 +39,10 @@ std::vector<std::string> split_args(const std::string& text) {
   char quote = 0;
   for (char c : text) {
     if (quote) {
-      if (c == quote) quote = 0;
-      else word += c;
+      if (c == quote)
+        quote = 0;
+      else
+        word += c;
     } else if (c == '\'' || c == '"') {
       quote = c, in_word = true;
     } else if (c == ' ' || c == '\t' || c == '\n') {
@@ -103,13 +105,16 @@ SimProcess::SimProcess(const std::string& program, const std::vector<std::string
   const std::size_t nl = line.find('\n');
   if (nl == std::string::npos || line.rfind("/dev/", 0) != 0) {
     stop();
-    throw std::runtime_error(program + " did not report a device: is salient-sim built, and are its sim_args right? "
+    throw std::runtime_error(program +
+                             " did not report a device: is salient-sim built, and are its sim_args right? "
                              "(see salientd's log; SALIENT_SIM names the program)");
   }
   device_ = line.substr(0, nl);
 }
 
-SimProcess::~SimProcess() { stop(); }
+SimProcess::~SimProcess() {
+  stop();
+}
 
 bool SimProcess::running() {
   if (pid_ <= 0) return false;

@@ -80,7 +80,8 @@ struct Database::Statement::Impl {
   sqlite3_stmt* stmt;
   ~Impl() { sqlite3_finalize(stmt); }
   void check(int rc, std::string_view what) const {
-    if (rc != SQLITE_OK) throw StoreError(std::string(what) + ": " + sqlite3_errmsg(db), (rc & 0xff) == SQLITE_FULL);
+    if (rc != SQLITE_OK)
+      throw StoreError(std::string(what) + ": " + sqlite3_errmsg(db), (rc & 0xff) == SQLITE_FULL);
   }
 };
 
@@ -97,7 +98,8 @@ Database::Statement& Database::Statement::bind(int i, double v) {
   return *this;
 }
 Database::Statement& Database::Statement::bind(int i, std::string_view t) {
-  impl_->check(sqlite3_bind_text64(impl_->stmt, i, t.data(), t.size(), SQLITE_TRANSIENT, SQLITE_UTF8), "bind");
+  impl_->check(sqlite3_bind_text64(impl_->stmt, i, t.data(), t.size(), SQLITE_TRANSIENT, SQLITE_UTF8),
+               "bind");
   return *this;
 }
 Database::Statement& Database::Statement::bind_null(int i) {
@@ -125,9 +127,15 @@ void Database::Statement::run() {
   }
 }
 
-std::int64_t Database::Statement::integer(int c) const { return sqlite3_column_int64(impl_->stmt, c); }
-double Database::Statement::real(int c) const { return sqlite3_column_double(impl_->stmt, c); }
-bool Database::Statement::null(int c) const { return sqlite3_column_type(impl_->stmt, c) == SQLITE_NULL; }
+std::int64_t Database::Statement::integer(int c) const {
+  return sqlite3_column_int64(impl_->stmt, c);
+}
+double Database::Statement::real(int c) const {
+  return sqlite3_column_double(impl_->stmt, c);
+}
+bool Database::Statement::null(int c) const {
+  return sqlite3_column_type(impl_->stmt, c) == SQLITE_NULL;
+}
 std::string Database::Statement::text(int c) const {
   const auto* p = reinterpret_cast<const char*>(sqlite3_column_text(impl_->stmt, c));
   return p ? std::string(p, static_cast<std::size_t>(sqlite3_column_bytes(impl_->stmt, c))) : std::string();
@@ -135,8 +143,8 @@ std::string Database::Statement::text(int c) const {
 
 Database::Database(const std::filesystem::path& file) : handle_(std::make_unique<Handle>()) {
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path());
-  if (sqlite3_open_v2(file.c_str(), &handle_->db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr) !=
-      SQLITE_OK)
+  if (sqlite3_open_v2(file.c_str(), &handle_->db,
+                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr) != SQLITE_OK)
     handle_->fail(file.string());
   sqlite3_busy_timeout(handle_->db, 5000);
   // WAL: readers never block the writer; synchronous=NORMAL is durable at each checkpoint and
@@ -156,15 +164,20 @@ Database::Statement Database::prepare(std::string_view sql) {
 
 void Database::exec(std::string_view sql) {
   char* error = nullptr;
-  if (const int rc = sqlite3_exec(handle_->db, std::string(sql).c_str(), nullptr, nullptr, &error); rc != SQLITE_OK) {
+  if (const int rc = sqlite3_exec(handle_->db, std::string(sql).c_str(), nullptr, nullptr, &error);
+      rc != SQLITE_OK) {
     const std::string message = error ? error : "unknown error";
     sqlite3_free(error);
     throw StoreError("SQLite: " + message, (rc & 0xff) == SQLITE_FULL);
   }
 }
 
-std::int64_t Database::last_insert_id() const { return sqlite3_last_insert_rowid(handle_->db); }
-int Database::changes() const { return sqlite3_changes(handle_->db); }
+std::int64_t Database::last_insert_id() const {
+  return sqlite3_last_insert_rowid(handle_->db);
+}
+int Database::changes() const {
+  return sqlite3_changes(handle_->db);
+}
 
 int Database::schema_version() const {
   sqlite3_stmt* stmt = nullptr;
@@ -174,21 +187,26 @@ int Database::schema_version() const {
   return v;
 }
 
-int Database::latest_schema_version() { return static_cast<int>(migrations.size()); }
+int Database::latest_schema_version() {
+  return static_cast<int>(migrations.size());
+}
 
 void Database::migrate() {
   if (schema_version() == latest_schema_version()) return;
   Transaction t(*this);  // BEGIN IMMEDIATE: another process migrating waits here, then finds it done
   const int have = schema_version();
   if (have > latest_schema_version())
-    throw StoreError("the database has schema version " + std::to_string(have) + ", newer than this salientd (" +
-                     std::to_string(latest_schema_version()) + "): upgrade salientd");
+    throw StoreError("the database has schema version " + std::to_string(have) +
+                     ", newer than this salientd (" + std::to_string(latest_schema_version()) +
+                     "): upgrade salientd");
   for (int v = have; v < latest_schema_version(); ++v) exec(migrations[static_cast<std::size_t>(v)]);
   exec("PRAGMA user_version = " + std::to_string(latest_schema_version()));
   t.commit();
 }
 
-Database::Transaction::Transaction(Database& db) : db_(db) { db_.exec("BEGIN IMMEDIATE"); }
+Database::Transaction::Transaction(Database& db) : db_(db) {
+  db_.exec("BEGIN IMMEDIATE");
+}
 Database::Transaction::~Transaction() {
   if (!done_) {
     try {

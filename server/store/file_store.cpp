@@ -16,7 +16,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool no_space(int err) { return err == ENOSPC || err == EDQUOT; }
+bool no_space(int err) {
+  return err == ENOSPC || err == EDQUOT;
+}
 
 void fsync_path(const fs::path& p, int flags) {
   const int fd = ::open(p.c_str(), flags | O_CLOEXEC);
@@ -46,14 +48,17 @@ fs::path FileStore::path_of(std::string_view d) const {
   return root_ / "objects" / std::string(d.substr(0, 2)) / std::string(d.substr(2));
 }
 
-bool FileStore::contains(std::string_view d) const { return valid_digest(d) && fs::exists(path_of(d)); }
+bool FileStore::contains(std::string_view d) const {
+  return valid_digest(d) && fs::exists(path_of(d));
+}
 
 std::string FileStore::put(std::string_view bytes) {
   const std::string digest = sha256_hex(bytes);
   const fs::path target = path_of(digest);
   if (fs::exists(target)) return digest;  // same bytes, same name: already there
   static std::atomic<unsigned long> counter{0};
-  const fs::path tmp = root_ / "tmp" / (digest + "." + std::to_string(::getpid()) + "." + std::to_string(counter++));
+  const fs::path tmp =
+      root_ / "tmp" / (digest + "." + std::to_string(::getpid()) + "." + std::to_string(counter++));
   {
     const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
     if (fd < 0) throw StoreError(tmp.string() + ": " + std::strerror(errno), no_space(errno));
@@ -96,6 +101,8 @@ std::string FileStore::read(std::string_view d) const {
   return s.str();
 }
 
-void FileStore::remove(std::string_view d) { fs::remove(path_of(d)); }
+void FileStore::remove(std::string_view d) {
+  fs::remove(path_of(d));
+}
 
 }  // namespace salient::server

@@ -26,7 +26,8 @@ std::size_t Store::remove_unreferenced(const std::vector<std::string>& digests) 
     // so a substring match cannot hit anything else.
     auto q = db().prepare(
         "SELECT (SELECT COUNT(*) FROM jobs WHERE model_digest = ?1 OR instr(result, ?1) > 0) + "
-        "(SELECT COUNT(*) FROM prints WHERE file_digest = ?1) + (SELECT COUNT(*) FROM files WHERE digest = ?1)");
+        "(SELECT COUNT(*) FROM prints WHERE file_digest = ?1) + (SELECT COUNT(*) FROM files WHERE digest = "
+        "?1)");
     q.bind(1, std::string_view(d));
     if (q.step() && q.integer(0) > 0) continue;
     files_.remove(d);

@@ -1,6 +1,8 @@
 // Replay driver for fuzz targets when libFuzzer is not linked: runs the target over every file
 // of the given files and folders, then over deterministic mutations of each (truncations and
-// byte flips), so `ctest` exercises the same code paths as the fuzzer on every build.
+// byte flips), so `ctest` exercises the same code paths as the fuzzer on every build. Each input
+// goes in behind a selector byte (the targets that pick a parser by their first byte), unless
+// `--raw` comes first: then as it is (the targets whose seeds are exactly what a client sends).
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -14,10 +16,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
 
 namespace {
 
+bool raw = false;  // --raw: no selector byte
+
 void run(const std::string& bytes, std::uint8_t selector) {
   std::vector<std::uint8_t> input;
   input.reserve(bytes.size() + 1);
-  input.push_back(selector);
+  if (!raw) input.push_back(selector);
   input.insert(input.end(), bytes.begin(), bytes.end());
   LLVMFuzzerTestOneInput(input.data(), input.size());
 }
@@ -26,7 +30,7 @@ std::size_t replay(const std::filesystem::path& file, std::mt19937& rng) {
   std::ifstream in(file, std::ios::binary);
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t runs = 0;
-  for (std::uint8_t sel = 0; sel < 6; ++sel, ++runs) run(bytes, sel);
+  for (std::uint8_t sel = 0; sel < (raw ? 1 : 6); ++sel, ++runs) run(bytes, sel);
   if (bytes.size() > (1u << 19)) return runs;  // big files: whole only, to keep the test quick
   for (int i = 1; i <= 8; ++i, ++runs) run(bytes.substr(0, bytes.size() * i / 9), static_cast<std::uint8_t>(rng()));
   for (int i = 0; i < 24 && !bytes.empty(); ++i, ++runs) {
@@ -42,7 +46,9 @@ std::size_t replay(const std::filesystem::path& file, std::mt19937& rng) {
 int main(int argc, char** argv) {
   std::mt19937 rng(12345);
   std::size_t runs = 0, files = 0;
-  for (int i = 1; i < argc; ++i) {
+  int first = 1;
+  if (argc > 1 && std::string(argv[1]) == "--raw") raw = true, first = 2;
+  for (int i = first; i < argc; ++i) {
     const std::filesystem::path arg(argv[i]);
     std::vector<std::filesystem::path> paths;
     if (std::filesystem::is_directory(arg)) {

@@ -59,15 +59,16 @@ TEST_CASE("saliency weighs the area metric and bounds S") {
 TEST_CASE("impossible settings are errors naming the option") {
   const Mesh box = salient::test::box(10, 10, 8);
   const std::vector<float> s(box.vertex_count(), 1.0f);
-  CHECK_THROWS_WITH_AS(ZProfile::build(box, s, {0.5, 0.4, 0.01}), "--min-layer: 0.5 mm is greater than --max-layer 0.4 mm",
-                       InputError);
+  CHECK_THROWS_WITH_AS(ZProfile::build(box, s, {0.5, 0.4, 0.01}),
+                       "--min-layer: 0.5 mm is greater than --max-layer 0.4 mm", InputError);
   CHECK_THROWS_WITH_AS(ZProfile::build(box, s, {0.1, 0.4, 0.03}),
                        "--grid: 0.03 mm does not divide --min-layer 0.1 and --max-layer 0.4", InputError);
   CHECK_THROWS_WITH_AS(ZProfile::build(box, s, {-0.1, 0.4, 0.01}),
                        "--min-layer: must be a positive number of millimetres, got -0.1", InputError);
   CHECK_THROWS_WITH_AS(validate_rho(1.5), "--rho: must be between 0 and 1, got 1.5", InputError);
   const Mesh low = salient::test::box(10, 10, 0.05);
-  CHECK_THROWS_WITH_AS(ZProfile::build(low, s, {}), "model: is 0.05 mm tall, lower than --min-layer 0.1 mm", InputError);
+  CHECK_THROWS_WITH_AS(ZProfile::build(low, s, {}), "model: is 0.05 mm tall, lower than --min-layer 0.1 mm",
+                       InputError);
   const Mesh awkward = salient::test::box(10, 10, 0.5);
   CHECK_THROWS_WITH_AS(ZProfile::build(awkward, s, {0.3, 0.4, 0.01}),
                        "model: height 0.5 mm cannot be cut into layers of 0.3 to 0.4 mm", InputError);

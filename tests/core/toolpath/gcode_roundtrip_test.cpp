@@ -131,7 +131,9 @@ TEST_CASE("G-code follows the plan and extrudes what the layers need") {
   }
 }
 
-TEST_CASE("the header's layers and filament are the file's: the start code is no layer, its prime line is filament") {
+TEST_CASE(
+    "the header's layers and filament are the file's: the start code is no layer, its prime line is "
+    "filament") {
   for (const char* id : {"generic-i3", "ender3", "replicator2x"}) {
     CAPTURE(id);
     const PrinterProfile printer = *builtin_printer(id);
@@ -153,7 +155,8 @@ TEST_CASE("a model too big for the bed, or too tall, is refused") {
   place_mesh(tall, {});
   const auto tall_layers = generate_toolpaths(tall, {0, 100, 200}, {});
   CHECK_THROWS_WITH_AS(write_gcode(tall_layers, printer, {}),
-                       "model: is 200.0 mm tall, the MakerBot Replicator 2X prints up to 150.0 mm", InputError);
+                       "model: is 200.0 mm tall, the MakerBot Replicator 2X prints up to 150.0 mm",
+                       InputError);
 }
 
 TEST_CASE("flow: the cross-section of a line") {
@@ -196,9 +199,11 @@ TEST_CASE("combing: travels inside the part do not retract, travels across the o
   layer.z_top = 0.2;
   layer.region = {{{50, 50}, {150, 50}, {150, 150}, {50, 150}}};
   layer.paths.push_back({{{60, 60}, {70, 60}}, false, 0.45, ExtrusionRole::solid_infill});
-  layer.paths.push_back({{{140, 140}, {130, 140}}, false, 0.45, ExtrusionRole::solid_infill});  // far, but inside
+  layer.paths.push_back(
+      {{{140, 140}, {130, 140}}, false, 0.45, ExtrusionRole::solid_infill});  // far, but inside
   LayerToolpaths ring = layer;
-  ring.region = {{{50, 50}, {150, 50}, {150, 150}, {50, 150}}, {{80, 80}, {80, 120}, {120, 120}, {120, 80}}};  // a hole
+  ring.region = {{{50, 50}, {150, 50}, {150, 150}, {50, 150}},
+                 {{80, 80}, {80, 120}, {120, 120}, {120, 80}}};  // a hole
   const auto retractions = [&](const LayerToolpaths& l) {
     GcodeSettings s;
     const std::string text = write_gcode({l}, printer, s).text;
@@ -260,7 +265,8 @@ TEST_CASE("a two-region plan prints each half at its own heights, merged by prin
   left.clip = {{{0, 0}, {100, 0}, {100, 200}, {0, 200}}};
   right.clip = {{{100, 0}, {200, 0}, {200, 200}, {100, 200}}};
   left.skirt_distance = right.skirt_distance = 0;
-  const auto merged = merge_by_print_height({generate_toolpaths(box, fine, left), generate_toolpaths(box, coarse, right)});
+  const auto merged =
+      merge_by_print_height({generate_toolpaths(box, fine, left), generate_toolpaths(box, coarse, right)});
   CHECK(merged.size() == 60);  // every 0.3 mm top is also a 0.1 mm top
   double expected = 0;
   std::size_t thick_paths = 0;
@@ -268,10 +274,12 @@ TEST_CASE("a two-region plan prints each half at its own heights, merged by prin
     for (const auto& p : l.paths) {
       CHECK((std::fabs(p.height - 0.1) < 1e-9 || std::fabs(p.height - 0.3) < 1e-9));
       thick_paths += p.height > 0.2;
-      for (const Point2& q : p.points) CHECK(((p.height < 0.2) == (q.x < 100 + 1e-6)));  // each half its own height
+      for (const Point2& q : p.points)
+        CHECK(((p.height < 0.2) == (q.x < 100 + 1e-6)));  // each half its own height
     }
   CHECK(thick_paths > 0);
-  const auto fine_layers = generate_toolpaths(box, fine, left), coarse_layers = generate_toolpaths(box, coarse, right);
+  const auto fine_layers = generate_toolpaths(box, fine, left),
+             coarse_layers = generate_toolpaths(box, coarse, right);
   for (const auto* set : {&fine_layers, &coarse_layers})
     for (const auto& l : *set) expected += (l.wall_area + l.solid_area + 0.2 * l.sparse_area) * l.height();
   const GcodeResult g = write_gcode(merged, printer, {});
@@ -279,7 +287,8 @@ TEST_CASE("a two-region plan prints each half at its own heights, merged by prin
   CHECK(extruded == doctest::Approx(expected).epsilon(0.10));
   const Parsed parsed = parse(g.text, true);
   REQUIRE(parsed.layers.size() == 60);
-  for (std::size_t i = 0; i < 60; ++i) CHECK(parsed.layers[i].z == doctest::Approx(fine[i + 1]).epsilon(1e-6));
+  for (std::size_t i = 0; i < 60; ++i)
+    CHECK(parsed.layers[i].z == doctest::Approx(fine[i + 1]).epsilon(1e-6));
 }
 
 TEST_CASE("flavours: Marlin states its limits, Sailfish takes absolute E and MakerBot fan codes") {
@@ -295,7 +304,8 @@ TEST_CASE("flavours: Marlin states its limits, Sailfish takes absolute E and Mak
   CHECK(sailfish.find("M204") == std::string::npos);
   CHECK(sailfish.find("M136") != std::string::npos);  // the profile's start G-code
   const Mesh placed = box_on_bed(*builtin_printer("generic-i3"), 10, 10, 2);
-  const auto marlin_layers = generate_toolpaths(placed, {0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {});
+  const auto marlin_layers =
+      generate_toolpaths(placed, {0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 1.8, 2.0}, {});
   const std::string marlin = write_gcode(marlin_layers, *builtin_printer("generic-i3"), {}).text;
   CHECK(marlin.find("M204 P1000") != std::string::npos);
   CHECK(marlin.find("M106 S255") != std::string::npos);

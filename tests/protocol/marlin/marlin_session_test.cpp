@@ -1,4 +1,6 @@
 // MarlinSession in scripted conversations: what it writes, given what the firmware answers.
+#include "protocol/marlin/marlin_session.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -7,7 +9,6 @@
 
 #include "protocol/marlin/line_codec.hpp"
 #include "protocol/marlin/marlin_reply.hpp"
-#include "protocol/marlin/marlin_session.hpp"
 
 using namespace salient::protocol::marlin;
 using std::chrono::milliseconds;
@@ -57,11 +58,12 @@ TEST_CASE("ADVANCED_OK: send ahead up to the free slots, within the receive buff
   s.on_receive("ok N0 P15 B3\n", milliseconds(1));
   CHECK(s.advanced_ok());
   const auto burst = sent(s.take_output());
-  CHECK(burst.size() == 3);  // B3 free slots; 3 × 18 bytes fits 64
+  CHECK(burst.size() == 3);                          // B3 free slots; 3 × 18 bytes fits 64
   s.on_receive("ok N1 P15 B16\n", milliseconds(2));  // line 1 done: lines 2 and 3 still in flight
   const auto more = sent(s.take_output());
   std::size_t bytes = 0;
-  for (std::size_t k = 1; k < burst.size(); ++k) bytes += frame(static_cast<std::uint64_t>(burst[k].first), burst[k].second).size() + 1;
+  for (std::size_t k = 1; k < burst.size(); ++k)
+    bytes += frame(static_cast<std::uint64_t>(burst[k].first), burst[k].second).size() + 1;
   for (const auto& [n, cmd] : more) bytes += frame(static_cast<std::uint64_t>(n), cmd).size() + 1;
   CHECK(more.size() >= 1);
   CHECK(bytes <= 64);  // never more bytes in flight than the buffer holds
@@ -245,7 +247,8 @@ TEST_CASE("replies: temperatures, firmware, capabilities, host actions, split ac
   CHECK(*t.temperatures.hotend_target == 215.0);
   CHECK(*t.temperatures.bed == doctest::Approx(60.2));
   CHECK(*t.temperatures.bed_target == 60.0);
-  MarlinReply f = parse_reply("FIRMWARE_NAME:Marlin 2.1.2 (Jan 1 2024) SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin");
+  MarlinReply f =
+      parse_reply("FIRMWARE_NAME:Marlin 2.1.2 (Jan 1 2024) SOURCE_CODE_URL:github.com/MarlinFirmware/Marlin");
   CHECK(f.name == "Marlin 2.1.2 (Jan 1 2024)");
   MarlinReply cap = parse_reply("Cap:EMERGENCY_PARSER:1");
   CHECK(cap.kind == ReplyKind::capability);
@@ -260,7 +263,8 @@ TEST_CASE("replies: temperatures, firmware, capabilities, host actions, split ac
   s.on_receive("k\nT:20", milliseconds(2));
   s.on_receive("0.0 /200.0\n", milliseconds(3));
   bool temps = false;
-  for (const auto& e : s.take_events()) temps = temps || (e.kind == SessionEvent::Kind::temperatures && *e.temperatures.hotend == 200.0);
+  for (const auto& e : s.take_events())
+    temps = temps || (e.kind == SessionEvent::Kind::temperatures && *e.temperatures.hotend == 200.0);
   CHECK(temps);
 }
 
@@ -270,9 +274,9 @@ TEST_CASE("a poke whose own ok is lost: the next poke's reply settles both, noth
   MarlinSession s(c);
   s.begin({"G1 X1", "G1 X2"}, milliseconds(0));
   s.on_receive("ok\n", milliseconds(1));
-  s.take_output();                  // line 1 goes; its ok is lost
-  s.on_tick(milliseconds(200));     // poke 1 (line 2); its ok is lost too
-  s.on_tick(milliseconds(400));     // poke 2 (line 3)
+  s.take_output();               // line 1 goes; its ok is lost
+  s.on_tick(milliseconds(200));  // poke 1 (line 2); its ok is lost too
+  s.on_tick(milliseconds(400));  // poke 2 (line 3)
   const auto pokes = sent(s.take_output());
   REQUIRE(pokes.size() == 2);
   s.on_receive("ok T:200.0 /200.0 B:60.0 /60.0 @:0 B@:0\n", milliseconds(401));
@@ -291,7 +295,8 @@ namespace {
 milliseconds run_ping_pong(std::size_t lines, milliseconds latency, const std::vector<std::size_t>& lost,
                            std::size_t* pokes = nullptr) {
   std::vector<std::string> gcode;
-  for (std::size_t i = 0; i < lines; ++i) gcode.push_back("G1 X" + std::to_string(i % 2) + " F6000");  // 1 mm moves
+  for (std::size_t i = 0; i < lines; ++i)
+    gcode.push_back("G1 X" + std::to_string(i % 2) + " F6000");  // 1 mm moves
   MarlinSession s;
   milliseconds now(0);
   s.begin(gcode, now);
@@ -299,8 +304,10 @@ milliseconds run_ping_pong(std::size_t lines, milliseconds latency, const std::v
   std::size_t answered = 0;
   while (s.state() == SessionState::printing && now < milliseconds(10'000'000)) {
     for (const auto& [n, c] : sent(s.take_output())) {
-      if (c == "M105") replies.emplace_back(now + latency, "ok T:200.0 /200.0\n");
-      else if (std::find(lost.begin(), lost.end(), answered++) == lost.end()) replies.emplace_back(now + latency, "ok\n");
+      if (c == "M105")
+        replies.emplace_back(now + latency, "ok T:200.0 /200.0\n");
+      else if (std::find(lost.begin(), lost.end(), answered++) == lost.end())
+        replies.emplace_back(now + latency, "ok\n");
     }
     now += milliseconds(1);
     while (!replies.empty() && replies.front().first <= now) {
@@ -349,7 +356,8 @@ TEST_CASE("a printer that goes silent fails the print after silence_limit, namin
   CHECK(s.commands_done() == 1);
   bool said = false;
   for (const auto& e : s.take_events())
-    if (e.kind == SessionEvent::Kind::failed) said = e.text.find("stopped answering after line 1") != std::string::npos;
+    if (e.kind == SessionEvent::Kind::failed)
+      said = e.text.find("stopped answering after line 1") != std::string::npos;
   CHECK(said);
 }
 
@@ -361,7 +369,8 @@ TEST_CASE("a cancel that a silent printer never confirms ends after cancel_silen
   s.on_receive("ok\n", milliseconds(5));
   s.cancel({"M104 S0"}, milliseconds(100));
   milliseconds now(100);
-  while (s.state() == SessionState::cancelled && now < milliseconds(60000)) s.on_tick(now += milliseconds(50));
+  while (s.state() == SessionState::cancelled && now < milliseconds(60000))
+    s.on_tick(now += milliseconds(50));
   CHECK(s.state() == SessionState::failed);
   CHECK(now <= milliseconds(2200));
 }
@@ -409,4 +418,20 @@ TEST_CASE("an empty file finishes at once, an unsendable line is refused before 
   REQUIRE(bad);
   CHECK(bad->line == 4);
   CHECK(unsendable("G1 X\xc3\xa9").find("not printable ASCII") != std::string::npos);
+}
+
+TEST_CASE("a corrupted M110 N0 is sent again, whatever line the firmware then asks for") {
+  for (const char* reply : {"Error:checksum mismatch, Last Line: 8921\nResend: 8922\nok\n",  // after another print
+                            "Error:checksum mismatch, Last Line: 0\nResend: 1\nok\n"}) {     // after a connect
+    CAPTURE(reply);
+    MarlinSession s;
+    s.begin({"G1 X1", "G1 X2"}, milliseconds(0));
+    CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{0, "M110 N0"}});
+    s.on_receive(reply, milliseconds(5));
+    CHECK(s.state() == SessionState::printing);
+    CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{0, "M110 N0"}});  // at once
+    for (int i = 0; i < 3; ++i) s.on_receive("ok\n", milliseconds(10 + i));
+    CHECK(s.state() == SessionState::finished);
+    CHECK(s.commands_done() == 2);
+  }
 }

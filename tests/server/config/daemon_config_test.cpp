@@ -1,7 +1,8 @@
+#include "server/config/daemon_config.hpp"
+
 #include <doctest/doctest.h>
 
 #include "core/common/input_error.hpp"
-#include "server/config/daemon_config.hpp"
 
 using namespace salient::server;
 using salient::core::InputError;
@@ -45,7 +46,8 @@ profile = "ender3"
 id = "bridge"
 kind = "tcp"
 port = "10.0.0.5:2000"
-)", "salientd.toml");
+)",
+                                             "salientd.toml");
   CHECK(c.listen == "0.0.0.0:9000");
   CHECK(c.workers == 2);
   REQUIRE(c.printers.size() == 2);
@@ -56,8 +58,8 @@ port = "10.0.0.5:2000"
 TEST_CASE("mistakes name the file, the line and the key") {
   CHECK_THROWS_WITH_AS(parse_daemon_config("[server]\nlisten = \"x\"\nport = 80\n", "d.toml"),
                        "d.toml:3: unknown key 'server.port'", InputError);
-  CHECK_THROWS_WITH_AS(parse_daemon_config("[jobs]\nworkers = 0\n", "d.toml"), "d.toml:2: 'jobs.workers' must be between 1 and 64",
-                       InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[jobs]\nworkers = 0\n", "d.toml"),
+                       "d.toml:2: 'jobs.workers' must be between 1 and 64", InputError);
   CHECK_THROWS_WITH_AS(parse_daemon_config("[jobs]\nworkers = \"two\"\n", "d.toml"),
                        "d.toml:2: 'jobs.workers' must be a whole number", InputError);
   CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"a\"\nkind = \"serial\"\n", "d.toml"),
@@ -66,13 +68,19 @@ TEST_CASE("mistakes name the file, the line and the key") {
                        "d.toml:3: printer id 'a' appears twice", InputError);
   CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"../x\"\n", "d.toml"),
                        doctest::Contains("'printers.id' must be lower-case letters"), InputError);
-  CHECK_THROWS_WITH_AS(parse_daemon_config("colour = 1\n", "d.toml"), "d.toml:1: unknown key 'colour'", InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("colour = 1\n", "d.toml"), "d.toml:1: unknown key 'colour'",
+                       InputError);
   // Found by config_fuzz: a huge number was cast to a size (undefined behaviour), now it is refused.
   CHECK_THROWS_WITH_AS(parse_daemon_config("[server]\nmax_json_kb = 1e300\n", "d.toml"),
                        "d.toml:2: 'server.max_json_kb' must be between 1 and 1.04858e+06", InputError);
   CHECK_THROWS_AS(parse_daemon_config("[server]\nrequest_timeout_seconds = 0.1\n", "d.toml"), InputError);
   CHECK_THROWS_AS(parse_daemon_config("[server]\nmax_connections = 0\n", "d.toml"), InputError);
-  CHECK_THROWS_AS(parse_daemon_config("[server]\nmax_upload_mb = 100\nmax_bodies_in_flight_mb = 50\n", "d.toml"), InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"a\"\nsim_args = \"--log 'x\"\n", "d.toml"),
+                       "d.toml:1: 'printers.sim_args': unclosed quote in '--log 'x'", InputError);
+  CHECK_THROWS_AS(
+      parse_daemon_config("[server]\nmax_upload_mb = 100\nmax_bodies_in_flight_mb = 50\n", "d.toml"),
+      InputError);
   CHECK_THROWS_AS(parse_daemon_config("[server\n", "d.toml"), InputError);
-  CHECK_THROWS_WITH_AS(load_daemon_config("/no/such/salientd.toml"), "/no/such/salientd.toml: cannot open for reading", InputError);
+  CHECK_THROWS_WITH_AS(load_daemon_config("/no/such/salientd.toml"),
+                       "/no/such/salientd.toml: cannot open for reading", InputError);
 }

@@ -1,12 +1,12 @@
 // The event hub's promises: subscribers get what they asked for, once; progress coalesces and
 // may be dropped; state changes are never dropped (a client too far behind is cut off instead).
+#include "server/events/event_hub.hpp"
+
 #include <doctest/doctest.h>
 
 #include <atomic>
 #include <nlohmann/json.hpp>
 #include <thread>
-
-#include "server/events/event_hub.hpp"
 
 using namespace salient::server;
 using nlohmann::json;
@@ -52,7 +52,7 @@ TEST_CASE("progress coalesces behind a state change but never jumps over it") {
   REQUIRE(s->subscribe("job/j1"));
   hub.publish({"job/j1"}, "job", R"({"p":1})", Delivery::coalesce);
   hub.publish({"job/j1"}, "job", R"({"p":2})", Delivery::coalesce);  // replaces p1
-  hub.publish({"job/j1"}, "job", R"({"phase":"plan"})");               // a state change
+  hub.publish({"job/j1"}, "job", R"({"phase":"plan"})");             // a state change
   hub.publish({"job/j1"}, "job", R"({"p":3})", Delivery::coalesce);  // after it, not merged into p2
   hub.publish({"job/j1"}, "job", R"({"p":4})", Delivery::coalesce);  // replaces p3
   const auto got = drain(*s);
@@ -89,7 +89,8 @@ TEST_CASE("past the state limit the client is cut off with a reason instead of m
   CHECK(!s->next());
 }
 
-TEST_CASE("a new subscriber gets the topic's snapshot first, then 'subscribed', and bad messages get an error") {
+TEST_CASE(
+    "a new subscriber gets the topic's snapshot first, then 'subscribed', and bad messages get an error") {
   EventHub hub;
   hub.set_snapshot([](const std::string& topic) {
     std::vector<std::pair<std::string, std::string>> out;
@@ -103,7 +104,8 @@ TEST_CASE("a new subscriber gets the topic's snapshot first, then 'subscribed', 
   CHECK(got[0]["data"]["state"] == "running");
   CHECK(got[1]["type"] == "subscribed");
   CHECK(got[1]["data"]["topics"].size() == 2);
-  for (const char* bad : {"not json", "[1]", R"({"subscribe": "jobs"})", R"({"subscribe": ["nope"]})", R"({"listen": []})"}) {
+  for (const char* bad :
+       {"not json", "[1]", R"({"subscribe": "jobs"})", R"({"subscribe": ["nope"]})", R"({"listen": []})"}) {
     s->receive(bad);
     got = drain(*s);
     REQUIRE_MESSAGE(got.size() == 1, bad);
@@ -127,7 +129,8 @@ TEST_CASE("publishers on many threads: each subscriber sees every state change, 
   for (int t = 0; t < 4; ++t)
     publishers.emplace_back([&, t] {
       for (int i = 0; i < 500; ++i)
-        hub.publish({"jobs", "job/t" + std::to_string(t)}, "job", "{\"t\":" + std::to_string(t) + ",\"i\":" + std::to_string(i) + "}");
+        hub.publish({"jobs", "job/t" + std::to_string(t)}, "job",
+                    "{\"t\":" + std::to_string(t) + ",\"i\":" + std::to_string(i) + "}");
     });
   for (auto& p : publishers) p.join();
   for (auto& s : subs) {
@@ -157,10 +160,10 @@ TEST_CASE("a subscribe list is folded, and replies and snapshots count against t
   json many = json::array();
   for (int i = 0; i < 5200; ++i) many.push_back("printers");
   s->receive(json{{"subscribe", many}}.dump());
-  CHECK(snapshots == 1);       // one topic, one snapshot
-  CHECK(s->pending() == 2);    // that snapshot and the reply
+  CHECK(snapshots == 1);     // one topic, one snapshot
+  CHECK(s->pending() == 2);  // that snapshot and the reply
   s->receive(json{{"subscribe", {"printers"}}}.dump());
-  CHECK(snapshots == 1);       // subscribed already: no second snapshot
+  CHECK(snapshots == 1);  // subscribed already: no second snapshot
   for (int i = 0; i < 100 && s->close_reason().empty(); ++i) s->receive(R"({"subscribe": ["printers"]})");
   CHECK(s->close_reason().find("too slow") != std::string::npos);  // never read: cut off, not grown
   CHECK(s->pending() == 0);

@@ -1,4 +1,6 @@
 // The Beast server on loopback, spoken to through a plain socket: what curl would see.
+#include "server/http/http_server.hpp"
+
 #include <arpa/inet.h>
 #include <doctest/doctest.h>
 #include <netinet/in.h>
@@ -13,8 +15,6 @@
 #include <string>
 #include <thread>
 #include <vector>
-
-#include "server/http/http_server.hpp"
 
 using namespace salient::server;
 
@@ -62,9 +62,11 @@ struct Running {
   std::thread thread;
   unsigned short port = 0;
   explicit Running(std::size_t body_limit = 1 << 20, const std::function<void(Running&)>& setup = {}) {
-    router.add("GET", "/hello/{who}", Access::open,
-               [](const HttpRequest& r, const PathParams& p) { return HttpResponse::text(200, "hello " + p.at("who") + (r.query.count("x") ? r.query.at("x") : "")); });
-    router.add("POST", "/echo", Access::open, [](const HttpRequest& r, const PathParams&) { return HttpResponse::text(200, r.body); });
+    router.add("GET", "/hello/{who}", Access::open, [](const HttpRequest& r, const PathParams& p) {
+      return HttpResponse::text(200, "hello " + p.at("who") + (r.query.count("x") ? r.query.at("x") : ""));
+    });
+    router.add("POST", "/echo", Access::open,
+               [](const HttpRequest& r, const PathParams&) { return HttpResponse::text(200, r.body); });
     options.port = 0;
     options.body_limit = body_limit;
     if (setup) setup(*this);
@@ -141,17 +143,21 @@ std::string request(unsigned short port, const std::string& bytes) {
 }
 
 void set_receive_timeout(int fd, double seconds) {
-  timeval tv{static_cast<time_t>(seconds), static_cast<suseconds_t>((seconds - static_cast<long>(seconds)) * 1e6)};
+  timeval tv{static_cast<time_t>(seconds),
+             static_cast<suseconds_t>((seconds - static_cast<long>(seconds)) * 1e6)};
   ::setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
 }
 
 }  // namespace
 
-TEST_CASE("any bytes in a path get a JSON error, and a handler's unexpected exception is a 500, the server goes on") {
+TEST_CASE(
+    "any bytes in a path get a JSON error, and a handler's unexpected exception is a 500, the server goes "
+    "on") {
   std::vector<std::string> logged;
   std::mutex m;
   Running s(1 << 20, [&](Running& r) {
-    r.router.add("GET", "/throw", Access::open, [](const HttpRequest&, const PathParams&) -> HttpResponse { throw 42; });
+    r.router.add("GET", "/throw", Access::open,
+                 [](const HttpRequest&, const PathParams&) -> HttpResponse { throw 42; });
     r.options.log = [&](const std::string& line) {
       std::lock_guard lock(m);
       logged.push_back(line);
@@ -170,7 +176,8 @@ TEST_CASE("any bytes in a path get a JSON error, and a handler's unexpected exce
   CHECK(thrown.rfind("HTTP/1.1 500", 0) == 0);
   CHECK(request(s.port, "GET /hello/again HTTP/1.1\r\nHost: t\r\n\r\n").rfind("HTTP/1.1 200", 0) == 0);
   std::lock_guard lock(m);
-  CHECK(std::any_of(logged.begin(), logged.end(), [](const std::string& l) { return l.find("internal error") != std::string::npos; }));
+  CHECK(std::any_of(logged.begin(), logged.end(),
+                    [](const std::string& l) { return l.find("internal error") != std::string::npos; }));
 }
 
 TEST_CASE("the key is checked on the headers: a 60 MB body without it is refused before it is sent") {
@@ -182,7 +189,8 @@ TEST_CASE("the key is checked on the headers: a 60 MB body without it is refused
   });
   const int fd = connect_to(s.port);
   set_receive_timeout(fd, 3);
-  send_all(fd, "POST /upload HTTP/1.1\r\nHost: t\r\nContent-Length: 62914560\r\n\r\n" + std::string(4096, 'x'));
+  send_all(fd,
+           "POST /upload HTTP/1.1\r\nHost: t\r\nContent-Length: 62914560\r\n\r\n" + std::string(4096, 'x'));
   const auto t0 = std::chrono::steady_clock::now();
   const std::string r = read_response(fd);
   CHECK(r.rfind("HTTP/1.1 401", 0) == 0);
@@ -190,7 +198,9 @@ TEST_CASE("the key is checked on the headers: a 60 MB body without it is refused
   ::close(fd);
   // With the key (and Expect: 100-continue, as curl sends for a large body) it goes through.
   const int ok = connect_to(s.port);
-  send_all(ok, "POST /upload HTTP/1.1\r\nHost: t\r\nX-Api-Key: k\r\nExpect: 100-continue\r\nContent-Length: 5\r\n\r\n");
+  send_all(ok,
+           "POST /upload HTTP/1.1\r\nHost: t\r\nX-Api-Key: k\r\nExpect: 100-continue\r\nContent-Length: "
+           "5\r\n\r\n");
   std::string cont(64, '\0');
   cont.resize(static_cast<std::size_t>(std::max<ssize_t>(0, ::recv(ok, cont.data(), cont.size(), 0))));
   CHECK(cont.rfind("HTTP/1.1 100", 0) == 0);
@@ -204,15 +214,19 @@ TEST_CASE("bodies in flight are budgeted: beyond it 503 with Retry-After, before
   const int holding = connect_to(s.port);
   send_all(holding, "POST /echo HTTP/1.1\r\nHost: t\r\nContent-Length: 1000000\r\n\r\nabc");
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // its body is being received
-  const std::string refused = request(s.port, "POST /echo HTTP/1.1\r\nHost: t\r\nContent-Length: 100000\r\n\r\n");
+  const std::string refused =
+      request(s.port, "POST /echo HTTP/1.1\r\nHost: t\r\nContent-Length: 100000\r\n\r\n");
   CHECK(refused.rfind("HTTP/1.1 503", 0) == 0);
   CHECK(refused.find("Retry-After: 5") != std::string::npos);
   ::close(holding);
   std::this_thread::sleep_for(std::chrono::milliseconds(200));  // its budget comes back
-  CHECK(request(s.port, "POST /echo HTTP/1.1\r\nHost: t\r\nContent-Length: 3\r\n\r\nxyz").rfind("HTTP/1.1 200", 0) == 0);
+  CHECK(request(s.port, "POST /echo HTTP/1.1\r\nHost: t\r\nContent-Length: 3\r\n\r\nxyz")
+            .rfind("HTTP/1.1 200", 0) == 0);
 }
 
-TEST_CASE("the timeout is on progress: a slow upload that keeps sending is served, a stalled one is closed, a huge header is 431") {
+TEST_CASE(
+    "the timeout is on progress: a slow upload that keeps sending is served, a stalled one is closed, a huge "
+    "header is 431") {
   Running s(1 << 20, [](Running& r) { r.options.timeout = std::chrono::seconds(1); });
   int fd = connect_to(s.port);
   send_all(fd, "POST /echo HTTP/1.1\r\nHost: t\r\nContent-Length: 3000\r\n\r\n");
@@ -231,11 +245,13 @@ TEST_CASE("the timeout is on progress: a slow upload that keeps sending is serve
   CHECK(read_response(fd).empty());  // stalled for the timeout: closed, and its budget freed
   CHECK(std::chrono::steady_clock::now() - t0 < std::chrono::seconds(3));
   ::close(fd);
-  const std::string big = request(s.port, "GET /hello/a HTTP/1.1\r\nHost: t\r\nX-Big: " + std::string(20000, 'b') + "\r\n\r\n");
+  const std::string big =
+      request(s.port, "GET /hello/a HTTP/1.1\r\nHost: t\r\nX-Big: " + std::string(20000, 'b') + "\r\n\r\n");
   CHECK(big.rfind("HTTP/1.1 431", 0) == 0);
 }
 
-TEST_CASE("connections beyond the caps are answered 503 and logged, and the server accepts again once they go") {
+TEST_CASE(
+    "connections beyond the caps are answered 503 and logged, and the server accepts again once they go") {
   std::atomic<int> refusals{0};
   Running s(1 << 20, [&](Running& r) {
     r.options.max_connections = 3;
@@ -275,16 +291,18 @@ TEST_CASE("an unknown method is one label for metrics, whatever its bytes") {
 TEST_CASE("no smuggling: codings that do not end with chunked, and a trailer too big to hold, are one 400") {
   Running s;
   int fd = connect_to(s.port);
-  send_all(fd, "POST /echo HTTP/1.1\r\nHost: t\r\nTransfer-Encoding: chunked, identity\r\n\r\n"
-               "GET /hello/smuggled HTTP/1.1\r\nHost: t\r\n\r\n");
+  send_all(fd,
+           "POST /echo HTTP/1.1\r\nHost: t\r\nTransfer-Encoding: chunked, identity\r\n\r\n"
+           "GET /hello/smuggled HTTP/1.1\r\nHost: t\r\n\r\n");
   const std::string r = read_response(fd);
   CHECK(r.rfind("HTTP/1.1 400", 0) == 0);
   CHECK(r.find("smuggled") == std::string::npos);
   CHECK(read_response(fd).empty());  // closed: the rest was never read as a request
   ::close(fd);
   fd = connect_to(s.port);
-  send_all(fd, "POST /echo HTTP/1.1\r\nHost: t\r\nTransfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n0\r\nX-T: " +
-                   std::string(100000, 't') + "\r\n\r\n");
+  send_all(fd,
+           "POST /echo HTTP/1.1\r\nHost: t\r\nTransfer-Encoding: chunked\r\n\r\n5\r\nhello\r\n0\r\nX-T: " +
+               std::string(100000, 't') + "\r\n\r\n");
   CHECK(read_response(fd).rfind("HTTP/1.1 400", 0) == 0);  // Beast would throw on it: never gets there
   ::close(fd);
   CHECK(request(s.port, "GET /hello/a HTTP/1.1\r\nHost: t\r\n\r\n").rfind("HTTP/1.1 200", 0) == 0);

@@ -31,3 +31,13 @@ TEST_CASE("multipart: malformed bodies are refused with a reason") {
                        "multipart body ends inside a part", std::invalid_argument);
   CHECK_THROWS_AS(parse_multipart("--B\r\nno colon\r\n\r\nx\r\n--B--", "B"), std::invalid_argument);
 }
+
+TEST_CASE("multipart: a parameter's text inside a quoted value is not a parameter (found by fuzzing)") {
+  const std::string body =
+      "--b\r\nContent-Disposition: form-data; filename=\"a; name=settings\"; name=\"file\"\r\n\r\nx\r\n--b--\r\n";
+  const auto parts = parse_multipart(body, "b");
+  REQUIRE(parts.size() == 1);
+  CHECK(parts[0].name == "file");
+  CHECK(parts[0].filename == "a; name=settings");
+  CHECK(multipart_boundary("multipart/form-data; charset=utf-8; boundary=\"x;y\"") == "x;y");
+}

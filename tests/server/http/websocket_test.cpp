@@ -3,15 +3,15 @@
 // with "going away".
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/read_until.hpp>
 #include <boost/asio/write.hpp>
-#include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
-#include <nlohmann/json.hpp>
-#include <algorithm>
 #include <chrono>
+#include <nlohmann/json.hpp>
 #include <thread>
 #include <vector>
 
@@ -59,7 +59,8 @@ struct Client {
   websocket::response_type response;
   beast::error_code connect(unsigned short port, const std::string& path, const std::string& key) {
     beast::get_lowest_layer(ws).connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
-    ws.set_option(websocket::stream_base::decorator([key](websocket::request_type& r) { r.set("X-Api-Key", key); }));
+    ws.set_option(
+        websocket::stream_base::decorator([key](websocket::request_type& r) { r.set("X-Api-Key", key); }));
     beast::error_code ec;
     ws.handshake(response, "127.0.0.1", path, ec);
     return ec;
@@ -79,9 +80,11 @@ std::string upgrade_status(unsigned short port, const std::string& path, const s
   asio::io_context io;
   asio::ip::tcp::socket socket(io);
   socket.connect(asio::ip::tcp::endpoint(asio::ip::make_address("127.0.0.1"), port));
-  const std::string request = "GET " + path + " HTTP/1.1\r\nHost: t\r\nConnection: Upgrade\r\nUpgrade: websocket\r\n"
-                              "Sec-WebSocket-Version: 13\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nX-Api-Key: " +
-                              key + "\r\n\r\n";
+  const std::string request =
+      "GET " + path +
+      " HTTP/1.1\r\nHost: t\r\nConnection: Upgrade\r\nUpgrade: websocket\r\n"
+      "Sec-WebSocket-Version: 13\r\nSec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nX-Api-Key: " +
+      key + "\r\n\r\n";
   asio::write(socket, asio::buffer(request));
   std::string in;
   beast::error_code ec;
@@ -124,6 +127,7 @@ TEST_CASE("a client that leaves is forgotten by the hub") {
     CHECK(s.hub.subscribers() == 1);
     c.ws.close(websocket::close_code::normal);
   }
-  for (int i = 0; i < 200 && s.hub.subscribers() > 0; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  for (int i = 0; i < 200 && s.hub.subscribers() > 0; ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
   CHECK(s.hub.subscribers() == 0);
 }

@@ -1,4 +1,6 @@
 // JobService with its real parts: SQLite, the file store, worker threads running slice_model.
+#include "server/jobs/job_service.hpp"
+
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -10,7 +12,6 @@
 #include <thread>
 
 #include "server/http/router.hpp"
-#include "server/jobs/job_service.hpp"
 #include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"
 #include "tests/support/scratch_dir.hpp"
@@ -88,13 +89,15 @@ TEST_CASE("a submitted model is sliced by a worker: phases in order, G-code and 
     CHECK(phases.front() == "load");
     CHECK(phases.back() == "toolpaths");
   }
-  const auto again = service.submit("spot-copy.obj", bytes, R"({"height": 20, "up": "y"})");  // same settings, other order
+  const auto again =
+      service.submit("spot-copy.obj", bytes, R"({"height": 20, "up": "y"})");  // same settings, other order
   CHECK(again.reused);
   CHECK(again.job.id == submitted.job.id);
   CHECK_FALSE(service.submit("spot.obj", bytes, R"({"up": "y", "height": 25})").reused);
 }
 
-TEST_CASE("submit refuses bad settings (400), unknown formats (415), unreadable meshes (422), a full queue (429)") {
+TEST_CASE(
+    "submit refuses bad settings (400), unknown formats (415), unreadable meshes (422), a full queue (429)") {
   const salient::test::ScratchDir dir("jobs-errors");
   Store store(dir.path);
   JobServiceOptions options;
@@ -115,18 +118,27 @@ TEST_CASE("submit refuses bad settings (400), unknown formats (415), unreadable 
   CHECK(parse_job_settings("").canonical.find("segment") == std::string::npos);
   CHECK(parse_job_settings(R"({"segment": false})").canonical == parse_job_settings("").canonical);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "layers": 5})"); }) == 400);
-  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "planner": "ha13"})"); }) == 400);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "planner": "ha13"})"); }) ==
+        400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": "yes"})"); }) == 400);
   CHECK(parse_job_settings(R"({"segment": true, "segment_depth": 2})").slice.plan.segment_depth == 2);
-  CHECK(parse_job_settings(R"({"segment": true, "segment_depth": 2})").canonical.find("\"segment_depth\":2") != std::string::npos);
-  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "segment_depth": 9})"); }) == 400);
+  CHECK(
+      parse_job_settings(R"({"segment": true, "segment_depth": 2})").canonical.find("\"segment_depth\":2") !=
+      std::string::npos);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "segment_depth": 9})"); }) ==
+        400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"rho": 0.1, "layers": 5})"); }) == 400);
-  CHECK(status_of([&] { service.submit("cube.ply", cube, R"([[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]])"); }) == 400);
+  CHECK(status_of([&] {
+          service.submit("cube.ply", cube,
+                         R"([[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]])");
+        }) == 400);
   CHECK(status_of([&] { service.submit("notes.txt", "hello, this is not a mesh", ""); }) == 415);
   CHECK(status_of([&] { service.submit("broken.obj", model_bytes("invalid/malformed.obj"), ""); }) == 422);
   // Readable, but nothing printable once repaired: refused at upload, not failed later.
   CHECK(status_of([&] { service.submit("line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", ""); }) == 422);
-  CHECK(status_of([&] { service.submit("deep.ply", cube, std::string(80000, '[') + std::string(80000, ']')); }) == 400);
+  CHECK(status_of([&] {
+          service.submit("deep.ply", cube, std::string(80000, '[') + std::string(80000, ']'));
+        }) == 400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, ""); }) == 200);
   try {
     service.submit("cube.ply", cube, R"({"layers": 3})");
@@ -166,6 +178,10 @@ TEST_CASE("client file names are made safe") {
   CHECK(sanitize_filename("..") == "model");
   CHECK(sanitize_filename("") == "model");
   CHECK(sanitize_filename(".hidden.obj") == "hidden.obj");
+  // Cut to its last 100 characters first, then no leading dot (found by fuzzing: ".yyy….g").
+  const std::string cut = sanitize_filename("xxxxx." + std::string(97, 'y') + ".g");
+  CHECK(cut.size() <= 100);
+  CHECK(cut.front() != '.');
 }
 
 TEST_CASE("a job with \"segment\" runs SegOpt and reports its decision, progress never going back") {
@@ -178,7 +194,8 @@ TEST_CASE("a job with \"segment\" runs SegOpt and reports its decision, progress
     if (j.state == JobState::running) progress.push_back(j.progress);
   });
   service.start();
-  const auto submitted = service.submit("spot.obj", model_bytes("spot.obj"), R"({"up": "y", "height": 20, "segment": true})");
+  const auto submitted =
+      service.submit("spot.obj", model_bytes("spot.obj"), R"({"up": "y", "height": 20, "segment": true})");
   const Job done = wait_finished(store, submitted.job.id);
   REQUIRE(done.state == JobState::done);
   REQUIRE(done.result);
@@ -200,10 +217,12 @@ TEST_CASE("a job cancelled the moment it starts running is never sliced to the e
   service.start();
   const std::string cube = model_bytes("cube_binary.ply");
   for (int round = 0; round < 5; ++round) {
-    const auto submitted = service.submit("cube.ply", cube, "{\"height\": " + std::to_string(10 + round) + "}");
+    const auto submitted =
+        service.submit("cube.ply", cube, "{\"height\": " + std::to_string(10 + round) + "}");
     const std::string id = submitted.job.id;
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-    while (JobStore(store.db()).get(id)->state == JobState::queued && std::chrono::steady_clock::now() < until) {
+    while (JobStore(store.db()).get(id)->state == JobState::queued &&
+           std::chrono::steady_clock::now() < until) {
     }
     CHECK(service.cancel(id));
     const Job j = wait_finished(store, id);
