@@ -63,8 +63,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   HttpServerOptions http;
   http.address = config.listen.substr(0, colon);
   const std::string port_text = config.listen.substr(colon + 1);
-  if (port_text.empty() || port_text.size() > 5 || port_text.find_first_not_of("0123456789") != std::string::npos ||
-      std::stoi(port_text) > 65535)
+  if (port_text.empty() || port_text.size() > 5 ||
+      port_text.find_first_not_of("0123456789") != std::string::npos || std::stoi(port_text) > 65535)
     throw salient::core::InputError("--listen", {}, "'" + port_text + "' is not a port (0 to 65535)");
   http.port = static_cast<unsigned short>(std::stoi(port_text));
   http.body_limit = config.max_upload_bytes;

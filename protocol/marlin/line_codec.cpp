@@ -66,6 +66,16 @@ std::optional<Unsendable> find_unsendable(const std::vector<std::string>& lines)
   return std::nullopt;
 }
 
+std::optional<double> word_value(std::string_view c, char letter) {
+  for (std::size_t at = c.find(' '); at != std::string_view::npos; at = c.find(' ', at + 1)) {
+    if (at + 1 >= c.size() || c[at + 1] != letter) continue;
+    double v = 0;
+    const auto [ptr, ec] = std::from_chars(c.data() + at + 2, c.data() + c.size(), v);
+    return ec == std::errc() && ptr != c.data() + at + 2 ? v : 0.0;
+  }
+  return std::nullopt;
+}
+
 std::string frame(std::uint64_t number, std::string_view command) {
   std::string body = "N" + std::to_string(number) + " " + std::string(command);
   return body + "*" + std::to_string(checksum(body));

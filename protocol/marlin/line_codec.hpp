@@ -18,6 +18,10 @@ std::uint8_t checksum(std::string_view bytes);
 // surrounding whitespace; empty if nothing is left to send.
 std::string strip_comment(std::string_view line);
 
+// The value of a command's word (`X` in "G1 X10 Y2"), as Marlin reads it: absent, or 0 when the
+// letter stands without a number ("G28 X").
+std::optional<double> word_value(std::string_view command, char letter);
+
 // "N<number> <command>*<checksum>" (no line terminator).
 std::string frame(std::uint64_t number, std::string_view command);
 

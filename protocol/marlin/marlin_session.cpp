@@ -40,16 +40,6 @@ bool waits_for_heat(std::string_view command) {
   return c == "M109" || c == "M190" || c == "M191";
 }
 
-std::optional<double> word_value(std::string_view c, char letter) {
-  for (std::size_t at = c.find(letter); at != std::string_view::npos; at = c.find(letter, at + 1)) {
-    if (at > 0 && c[at - 1] != ' ') continue;
-    double v = 0;
-    const auto [ptr, ec] = std::from_chars(c.data() + at + 1, c.data() + c.size(), v);
-    if (ec == std::errc() && ptr != c.data() + at + 1) return v;
-  }
-  return std::nullopt;
-}
-
 // Commands whose ok comes when the work is done, which may take seconds to minutes.
 bool is_slow(std::string_view command) {
   static constexpr std::string_view slow[] = {"G28",  "G29",  "G30",  "G33",  "G34",  "G35",  "G76",
@@ -205,8 +195,8 @@ Millis MarlinSession::timeout_for_front() const {
   // moves sent lately is added, so that a long travel is not taken for a lost ok.
   const Millis busy =
       recent_moves_.empty() ? Millis(0) : *std::max_element(recent_moves_.begin(), recent_moves_.end());
-  return std::clamp(Millis(static_cast<long long>(rto)) + busy,
-                    std::min(config_.min_reply_timeout, config_.reply_timeout) + busy, config_.reply_timeout);
+  const Millis floor = std::min(config_.min_reply_timeout + busy, config_.reply_timeout);
+  return std::clamp(Millis(static_cast<long long>(rto)) + busy, floor, config_.reply_timeout);
 }
 
 void MarlinSession::sample_reply_time(Millis sample) {

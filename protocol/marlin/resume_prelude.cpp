@@ -10,17 +10,6 @@
 namespace salient::protocol::marlin {
 namespace {
 
-std::optional<double> word(std::string_view c, char letter) {
-  for (std::size_t at = c.find(' '); at != std::string_view::npos; at = c.find(' ', at + 1)) {
-    if (at + 1 >= c.size() || c[at + 1] != letter) continue;
-    double v = 0;
-    const auto [ptr, ec] = std::from_chars(c.data() + at + 2, c.data() + c.size(), v);
-    return ec == std::errc() && ptr != c.data() + at + 2 ? std::optional<double>(v)
-                                                         : std::optional<double>(0.0);
-  }
-  return std::nullopt;
-}
-
 constexpr double kPrimeMm = 1.0;  // filament re-primed before going on
 
 std::string num(double v) {
@@ -44,11 +33,11 @@ std::vector<std::string> resume_prelude(const std::vector<std::string>& gcode, s
     ++seen;
     const std::string_view code = std::string_view(c).substr(0, c.find(' '));
     if (code == "M104" || code == "M109")
-      hotend = word(c, 'S').value_or(word(c, 'R').value_or(hotend));
+      hotend = word_value(c, 'S').value_or(word_value(c, 'R').value_or(hotend));
     else if (code == "M140" || code == "M190")
-      bed = word(c, 'S').value_or(word(c, 'R').value_or(bed));
+      bed = word_value(c, 'S').value_or(word_value(c, 'R').value_or(bed));
     else if (code == "M106")
-      fan = word(c, 'S').value_or(255);
+      fan = word_value(c, 'S').value_or(255);
     else if (code == "M107")
       fan = 0;
     else if (code == "G90")
@@ -65,20 +54,20 @@ std::vector<std::string> resume_prelude(const std::vector<std::string>& gcode, s
       inches = false;
     else if (code == "G92") {
       for (int i = 0; i < 4; ++i)
-        if (auto v = word(c, axes[i])) pos[i] = *v;
+        if (auto v = word_value(c, axes[i])) pos[i] = *v;
     } else if (code == "G28") {
       bool any = false;
-      for (int i = 0; i < 3; ++i) any = any || word(c, axes[i]).has_value();
+      for (int i = 0; i < 3; ++i) any = any || word_value(c, axes[i]).has_value();
       for (int i = 0; i < 3; ++i)
-        if (!any || word(c, axes[i])) pos[i] = 0;
+        if (!any || word_value(c, axes[i])) pos[i] = 0;
     } else if (code == "G0" || code == "G1" || code == "G2" || code == "G3") {
       for (int i = 0; i < 4; ++i) {
-        const auto v = word(c, axes[i]);
+        const auto v = word_value(c, axes[i]);
         if (!v) continue;
         const bool rel = i == 3 ? relative || relative_e : relative;
         pos[i] = rel ? pos[i] + *v : *v;
       }
-      if (auto f = word(c, 'F')) feed = *f;
+      if (auto f = word_value(c, 'F')) feed = *f;
     }
   }
   std::vector<std::string> out;

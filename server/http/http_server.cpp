@@ -184,16 +184,18 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 class Session : public std::enable_shared_from_this<Session> {
  public:
   Session(tcp::socket socket, Shared& shared, std::shared_ptr<ConnectionSlot> slot)
-      : stream_(std::move(socket)), shared_(shared), slot_(std::move(slot)) {}
+      : stream_(std::move(socket)), executor_(stream_.get_executor()), shared_(shared), slot_(std::move(slot)) {}
   ~Session() { release_body(); }
 
   void start() {
-    asio::dispatch(stream_.get_executor(), [self = shared_from_this()] { self->read_header(); });
+    asio::dispatch(executor_, [self = shared_from_this()] { self->read_header(); });
   }
 
   // Graceful stop: an idle connection closes now, a busy one after its response.
   void stop() {
-    asio::post(stream_.get_executor(), [self = shared_from_this()] {
+    // Posted to the strand (never touching stream_ from here: an upgrade may be moving it).
+    asio::post(executor_, [self = shared_from_this()] {
+      if (self->upgraded_) return;
       self->closing_ = true;
       if (!self->busy_ || self->reading_body_) self->close();  // a body still arriving is not waited for
     });
@@ -202,8 +204,8 @@ class Session : public std::enable_shared_from_this<Session> {
   // After a handler threw out of Beast (run() caught it), no operation is left to end the
   // session; its stream's timer closes the socket, and this takes it off the books.
   void sweep() {
-    asio::post(stream_.get_executor(), [self = shared_from_this()] {
-      if (!self->stream_.socket().is_open()) self->close();
+    asio::post(executor_, [self = shared_from_this()] {
+      if (!self->upgraded_ && !self->stream_.socket().is_open()) self->close();
     });
   }
 
@@ -332,6 +334,7 @@ class Session : public std::enable_shared_from_this<Session> {
 
   // Hands the connection to a WebSocket session; this HTTP session ends here.
   void upgrade(std::shared_ptr<WebSocketChannel> channel) {
+    upgraded_ = true;  // from here on stream_ is the WebSocket's
     auto ws = std::make_shared<WsSession>(std::move(stream_), std::move(channel), shared_, std::move(slot_));
     {
       std::lock_guard lock(shared_.mutex);
@@ -425,6 +428,7 @@ class Session : public std::enable_shared_from_this<Session> {
   double elapsed() const { return std::chrono::duration<double>(Clock::now() - started_).count(); }
 
   beast::tcp_stream stream_;
+  asio::any_io_executor executor_;  // the connection's strand, kept apart from stream_
   Shared& shared_;
   std::shared_ptr<ConnectionSlot> slot_;
   // Bytes not parsed yet. Capped: Beast parses a chunked body's trailer with no header limit and
@@ -435,7 +439,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::string method_ = "OTHER", route_ = "unmatched";
   Clock::time_point started_ = Clock::now();
   bool busy_ = false, keep_alive_ = false, closing_ = false, writing_ = false, reading_body_ = false;
-  bool linger_started_ = false;
+  bool linger_started_ = false, upgraded_ = false;
   int response_status_ = 0;
   std::size_t reserved_ = 0, lingered_ = 0;
   Clock::time_point linger_until_{};

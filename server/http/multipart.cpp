@@ -68,10 +68,12 @@ std::vector<FormPart> parse_multipart(std::string_view body, std::string_view bo
   for (;;) {
     at += delimiter.size();
     if (body.substr(at, 2) == "--") return parts;  // the closing delimiter
-    if (body.substr(at, 2) != "\r\n") throw std::invalid_argument("multipart boundary not followed by a line end");
+    if (body.substr(at, 2) != "\r\n")
+      throw std::invalid_argument("multipart boundary not followed by a line end");
     at += 2;
     const std::size_t headers_end = body.find("\r\n\r\n", at);
-    if (headers_end == std::string_view::npos) throw std::invalid_argument("multipart part without the end of its headers");
+    if (headers_end == std::string_view::npos)
+      throw std::invalid_argument("multipart part without the end of its headers");
     FormPart part;
     part.content_type = "text/plain";
     for (std::string_view headers = body.substr(at, headers_end - at); !headers.empty();) {

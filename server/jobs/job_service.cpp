@@ -92,7 +92,7 @@ std::string sanitize_filename(const std::string& name) {
                     c == '-' || c == '_';
     out += ok ? c : '_';
   }
-  if (out.size() > 100) out = out.substr(out.size() - 100);     // the end keeps the extension
+  if (out.size() > 100) out = out.substr(out.size() - 100);    // the end keeps the extension
   while (!out.empty() && out.front() == '.') out.erase(0, 1);  // then: no hidden files, no ".."
   return out.empty() ? "model" : out;
 }

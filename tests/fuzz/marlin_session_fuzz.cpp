@@ -21,7 +21,8 @@ struct Checker {
   void check(MarlinSession& s) {
     for (const SessionEvent& e : s.take_events())
       if (e.kind == SessionEvent::Kind::resend)
-        for (auto it = may_send_again.lower_bound(e.line); it != may_send_again.end(); ++it) it->second = true;
+        for (auto it = may_send_again.lower_bound(e.line); it != may_send_again.end(); ++it)
+          it->second = true;
     std::istringstream out(s.take_output());
     for (std::string line; std::getline(out, line);) {
       if (line == "M112") continue;
@@ -45,7 +46,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   config.resend_ok_wait = std::chrono::milliseconds(20);
   MarlinSession s(config);
   Checker checker;
-  s.begin({"G28", "G1 X10 Y10 F3000", "M104 S200", "G1 X20 E1", "M105", "G1 X1", "G1 X2", "G1 X3"}, Millis(0));
+  s.begin({"G28", "G1 X10 Y10 F3000", "M104 S200", "G1 X20 E1", "M105", "G1 X1", "G1 X2", "G1 X3"},
+          Millis(0));
   checker.check(s);
   std::size_t at = 0;
   long long now = 0;

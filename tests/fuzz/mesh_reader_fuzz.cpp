@@ -19,12 +19,24 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     MeshFile file;
     switch (data[0] % 6) {
-      case 0: file = detail::read_stl_ascii(bytes, "fuzz.stl"); break;
-      case 1: file = detail::read_stl_binary(bytes, "fuzz.stl"); break;
-      case 2: file = detail::read_obj(bytes, "fuzz.obj"); break;
-      case 3: file = detail::read_off(bytes, "fuzz.off"); break;
-      case 4: file = detail::read_ply(bytes, "fuzz.ply"); break;
-      default: file = read_mesh(bytes, "fuzz.bin"); break;
+      case 0:
+        file = detail::read_stl_ascii(bytes, "fuzz.stl");
+        break;
+      case 1:
+        file = detail::read_stl_binary(bytes, "fuzz.stl");
+        break;
+      case 2:
+        file = detail::read_obj(bytes, "fuzz.obj");
+        break;
+      case 3:
+        file = detail::read_off(bytes, "fuzz.off");
+        break;
+      case 4:
+        file = detail::read_ply(bytes, "fuzz.ply");
+        break;
+      default:
+        file = read_mesh(bytes, "fuzz.bin");
+        break;
     }
     for (const Triangle& t : file.mesh.triangles)
       for (std::uint32_t v : t)

@@ -32,7 +32,8 @@ std::size_t replay(const std::filesystem::path& file, std::mt19937& rng) {
   std::size_t runs = 0;
   for (std::uint8_t sel = 0; sel < (raw ? 1 : 6); ++sel, ++runs) run(bytes, sel);
   if (bytes.size() > (1u << 19)) return runs;  // big files: whole only, to keep the test quick
-  for (int i = 1; i <= 8; ++i, ++runs) run(bytes.substr(0, bytes.size() * i / 9), static_cast<std::uint8_t>(rng()));
+  for (int i = 1; i <= 8; ++i, ++runs)
+    run(bytes.substr(0, bytes.size() * i / 9), static_cast<std::uint8_t>(rng()));
   for (int i = 0; i < 24 && !bytes.empty(); ++i, ++runs) {
     std::string mutated = bytes;
     for (int k = 0; k < 4; ++k) mutated[rng() % mutated.size()] = static_cast<char>(rng());

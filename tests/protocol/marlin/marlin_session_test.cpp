@@ -421,15 +421,17 @@ TEST_CASE("an empty file finishes at once, an unsendable line is refused before 
 }
 
 TEST_CASE("a corrupted M110 N0 is sent again, whatever line the firmware then asks for") {
-  for (const char* reply : {"Error:checksum mismatch, Last Line: 8921\nResend: 8922\nok\n",  // after another print
-                            "Error:checksum mismatch, Last Line: 0\nResend: 1\nok\n"}) {     // after a connect
+  for (const char* reply :
+       {"Error:checksum mismatch, Last Line: 8921\nResend: 8922\nok\n",  // after another print
+        "Error:checksum mismatch, Last Line: 0\nResend: 1\nok\n"}) {     // after a connect
     CAPTURE(reply);
     MarlinSession s;
     s.begin({"G1 X1", "G1 X2"}, milliseconds(0));
     CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{0, "M110 N0"}});
     s.on_receive(reply, milliseconds(5));
     CHECK(s.state() == SessionState::printing);
-    CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{0, "M110 N0"}});  // at once
+    CHECK(sent(s.take_output()) ==
+          std::vector<std::pair<long long, std::string>>{{0, "M110 N0"}});  // at once
     for (int i = 0; i < 3; ++i) s.on_receive("ok\n", milliseconds(10 + i));
     CHECK(s.state() == SessionState::finished);
     CHECK(s.commands_done() == 2);
