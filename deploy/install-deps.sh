@@ -13,8 +13,9 @@ build_packages=(
   libtomlplusplus-dev zlib1g-dev libpng-dev
   # fuzz targets (libFuzzer) and the sanitizer build
   clang libclang-rt-14-dev
-  # end-to-end tests speak to the daemon as users do
-  curl python3
+  # end-to-end tests speak to the daemon as users do (pgrep/pkill: procps; mount, for the full-disk
+  # test on a tmpfs: util-linux)
+  curl python3 procps util-linux
 )
 peer_packages=(prusa-slicer printrun wrk hyperfine)
 
