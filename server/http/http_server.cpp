@@ -184,7 +184,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 class Session : public std::enable_shared_from_this<Session> {
  public:
   Session(tcp::socket socket, Shared& shared, std::shared_ptr<ConnectionSlot> slot)
-      : stream_(std::move(socket)), executor_(stream_.get_executor()), shared_(shared), slot_(std::move(slot)) {}
+      : stream_(std::move(socket)),
+        executor_(stream_.get_executor()),
+        shared_(shared),
+        slot_(std::move(slot)) {}
   ~Session() { release_body(); }
 
   void start() {

@@ -1,13 +1,14 @@
+#include "server/http/multipart.hpp"
+
 #include <doctest/doctest.h>
 
 #include <stdexcept>
 
-#include "server/http/multipart.hpp"
-
 using namespace salient::server;
 
 TEST_CASE("multipart: curl's and PrusaSlicer's form bodies") {
-  CHECK(multipart_boundary("multipart/form-data; boundary=------------------------abc123") == "------------------------abc123");
+  CHECK(multipart_boundary("multipart/form-data; boundary=------------------------abc123") ==
+        "------------------------abc123");
   CHECK(multipart_boundary("multipart/form-data; boundary=\"quoted b\"") == "quoted b");
   CHECK_FALSE(multipart_boundary("application/json"));
   const std::string body =
@@ -26,15 +27,18 @@ TEST_CASE("multipart: curl's and PrusaSlicer's form bodies") {
 }
 
 TEST_CASE("multipart: malformed bodies are refused with a reason") {
-  CHECK_THROWS_WITH_AS(parse_multipart("no boundary here", "B"), "multipart body without its boundary", std::invalid_argument);
-  CHECK_THROWS_WITH_AS(parse_multipart("--B\r\nContent-Disposition: form-data; name=\"a\"\r\n\r\nunfinished", "B"),
-                       "multipart body ends inside a part", std::invalid_argument);
+  CHECK_THROWS_WITH_AS(parse_multipart("no boundary here", "B"), "multipart body without its boundary",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(
+      parse_multipart("--B\r\nContent-Disposition: form-data; name=\"a\"\r\n\r\nunfinished", "B"),
+      "multipart body ends inside a part", std::invalid_argument);
   CHECK_THROWS_AS(parse_multipart("--B\r\nno colon\r\n\r\nx\r\n--B--", "B"), std::invalid_argument);
 }
 
 TEST_CASE("multipart: a parameter's text inside a quoted value is not a parameter (found by fuzzing)") {
   const std::string body =
-      "--b\r\nContent-Disposition: form-data; filename=\"a; name=settings\"; name=\"file\"\r\n\r\nx\r\n--b--\r\n";
+      "--b\r\nContent-Disposition: form-data; filename=\"a; name=settings\"; "
+      "name=\"file\"\r\n\r\nx\r\n--b--\r\n";
   const auto parts = parse_multipart(body, "b");
   REQUIRE(parts.size() == 1);
   CHECK(parts[0].name == "file");
