@@ -16,6 +16,8 @@ build_packages=(
   # end-to-end tests speak to the daemon as users do (pgrep/pkill: procps; mount, for the full-disk
   # test on a tmpfs: util-linux)
   curl python3 procps util-linux
+  # `make format-check`, which CI runs: the one formatter version the tree is written with
+  clang-format
 )
 peer_packages=(prusa-slicer printrun wrk hyperfine)
 

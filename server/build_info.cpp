@@ -3,6 +3,8 @@
 
 namespace salient::server {
 
-std::string_view version() { return SALIENT_VERSION; }
+std::string_view version() {
+  return SALIENT_VERSION;
+}
 
 }  // namespace salient::server

@@ -50,9 +50,9 @@ std::string describe_job(const json& j) {
     line += "  " + j.value("phase", "") + " " + fixed(100 * j.value("progress", 0.0), 0) + "%";
   if (state == "done" && j.contains("result")) {
     const json& r = j["result"];
-    line += "  " + std::to_string(r.value("layers", 0)) + " layers (finest " + std::to_string(r.value("finest_layers", 0)) +
-            ", " + fixed(100 * r.value("saving", 0.0), 1) + "% fewer), print " + fixed(r.value("print_seconds", 0.0) / 60, 1) +
-            " min";
+    line += "  " + std::to_string(r.value("layers", 0)) + " layers (finest " +
+            std::to_string(r.value("finest_layers", 0)) + ", " + fixed(100 * r.value("saving", 0.0), 1) +
+            "% fewer), print " + fixed(r.value("print_seconds", 0.0) / 60, 1) + " min";
   }
   if (state == "failed" && j["error"].is_string()) line += "  error: " + j["error"].get<std::string>();
   return line;
@@ -61,9 +61,10 @@ std::string describe_job(const json& j) {
 void progress_bar(const json& j) {
   const double p = std::clamp(j.value("progress", 0.0), 0.0, 1.0);
   const int filled = static_cast<int>(p * 30);
-  std::fprintf(stderr, "\r[%s%s] %3d%% %-10s", std::string(static_cast<std::size_t>(filled), '#').c_str(),
-               std::string(static_cast<std::size_t>(30 - filled), ' ').c_str(), static_cast<int>(p * 100),
-               j.value("state", "") == "running" ? j.value("phase", "").c_str() : j.value("state", "").c_str());
+  std::fprintf(
+      stderr, "\r[%s%s] %3d%% %-10s", std::string(static_cast<std::size_t>(filled), '#').c_str(),
+      std::string(static_cast<std::size_t>(30 - filled), ' ').c_str(), static_cast<int>(p * 100),
+      j.value("state", "") == "running" ? j.value("phase", "").c_str() : j.value("state", "").c_str());
   std::fflush(stderr);
 }
 
@@ -74,9 +75,12 @@ json follow_job(DaemonClient& client, const std::string& id, bool bar, bool json
     const json m = json::parse(text, nullptr, false);
     if (m.is_discarded() || m.value("type", "") != "job") return true;
     last = m["data"];
-    if (json_lines) std::printf("%s\n", text.c_str()), std::fflush(stdout);
-    else if (bar) progress_bar(last);
-    else std::printf("%s\n", describe_job(last).c_str()), std::fflush(stdout);
+    if (json_lines)
+      std::printf("%s\n", text.c_str()), std::fflush(stdout);
+    else if (bar)
+      progress_bar(last);
+    else
+      std::printf("%s\n", describe_job(last).c_str()), std::fflush(stdout);
     const std::string state = last.value("state", "");
     return !(state == "done" || state == "failed" || state == "cancelled");
   });
@@ -110,8 +114,10 @@ void add_client_commands(CLI::App& app, CommandAction& action) {
     auto o = std::make_shared<SubmitOptions>();
     CLI::App* cmd = app.add_subcommand("submit", "Send a model to salientd to slice (a job)");
     cmd->add_option("model", o->model, "STL, OBJ, PLY or OFF file")->required()->check(CLI::ExistingFile);
-    cmd->add_option("--settings", o->settings, "Job settings as JSON, e.g. '{\"planner\":\"exact\",\"layers\":60}'");
-    cmd->add_flag("--wait", o->wait, "Follow the job to the end with a progress bar (exit 0 done, 1 failed, 130 cancelled)");
+    cmd->add_option("--settings", o->settings,
+                    "Job settings as JSON, e.g. '{\"planner\":\"exact\",\"layers\":60}'");
+    cmd->add_flag("--wait", o->wait,
+                  "Follow the job to the end with a progress bar (exit 0 done, 1 failed, 130 cancelled)");
     cmd->add_option("-o,--output", o->output, "With --wait: save the G-code here");
     cmd->add_option("--print", o->print, "With --wait: then print it on this printer (e.g. sim)");
     add_client_options(*cmd, *o);
@@ -121,15 +127,18 @@ void add_client_commands(CLI::App& app, CommandAction& action) {
           DaemonClient client(resolve_daemon(o->server, o->key));
           std::vector<std::pair<std::string, std::string>> fields;
           if (!o->settings.empty()) fields.emplace_back("settings", o->settings);
-          const DaemonReply r = client.upload("/api/v1/jobs", "file", std::filesystem::path(o->model).filename().string(),
-                                              read_file(o->model), fields);
+          const DaemonReply r =
+              client.upload("/api/v1/jobs", "file", std::filesystem::path(o->model).filename().string(),
+                            read_file(o->model), fields);
           json job = json::parse(r.body);
           const std::string id = job.value("id", "");
           if (!o->wait) {
             std::printf("%s\n", o->json ? r.body.c_str() : describe_job(job).c_str());
             return 0;
           }
-          if (!o->json) std::fprintf(stderr, "job %s%s\n", id.c_str(), r.status == 200 ? " (reused: same model and settings)" : "");
+          if (!o->json)
+            std::fprintf(stderr, "job %s%s\n", id.c_str(),
+                         r.status == 200 ? " (reused: same model and settings)" : "");
           job = follow_job(client, id, true, o->json);
           if (!o->json) std::printf("%s\n", describe_job(job).c_str());
           if (exit_status(job) != 0) return exit_status(job);
@@ -214,7 +223,8 @@ void add_client_commands(CLI::App& app, CommandAction& action) {
   }
   {
     auto o = std::make_shared<ClientOptions>();
-    CLI::App* cmd = app.add_subcommand("printers", "Show salientd's printers: state, temperatures, print progress");
+    CLI::App* cmd =
+        app.add_subcommand("printers", "Show salientd's printers: state, temperatures, print progress");
     add_client_options(*cmd, *o);
     cmd->callback([o, &action] {
       action = [o] {
@@ -227,19 +237,24 @@ void add_client_commands(CLI::App& app, CommandAction& action) {
             std::string line = p.value("id", "") + "  " + p.value("state", "");
             const json& t = p["temperatures"];
             if (t["hotend"]["actual"].is_number())
-              line += "  hotend " + fixed(t["hotend"]["actual"].get<double>(), 1) + "/" +
-                      fixed(t["hotend"]["target"].is_number() ? t["hotend"]["target"].get<double>() : 0.0, 0) + "°C";
+              line +=
+                  "  hotend " + fixed(t["hotend"]["actual"].get<double>(), 1) + "/" +
+                  fixed(t["hotend"]["target"].is_number() ? t["hotend"]["target"].get<double>() : 0.0, 0) +
+                  "°C";
             if (t["bed"]["actual"].is_number())
               line += "  bed " + fixed(t["bed"]["actual"].get<double>(), 1) + "/" +
-                      fixed(t["bed"]["target"].is_number() ? t["bed"]["target"].get<double>() : 0.0, 0) + "°C";
+                      fixed(t["bed"]["target"].is_number() ? t["bed"]["target"].get<double>() : 0.0, 0) +
+                      "°C";
             if (p["print"].is_object())
-              line += "  " + p["print"].value("file", "") + " " + fixed(100 * p["print"].value("progress", 0.0), 1) + "%";
+              line += "  " + p["print"].value("file", "") + " " +
+                      fixed(100 * p["print"].value("progress", 0.0), 1) + "%";
             if (p["error"].is_string()) line += "  error: " + p["error"].get<std::string>();
             if (p["last_print"].is_object() && p["last_print"].value("resumable", false))
               line += "  (print " + std::to_string(p["last_print"].value("id", 0LL)) + " was " +
-                      p["last_print"].value("state", "") + " at command " + std::to_string(p["last_print"].value("confirmed", 0LL)) +
-                      ": resume with POST /api/v1/printers/" + p.value("id", "") + "/print {\"resume\": " +
-                      std::to_string(p["last_print"].value("id", 0LL)) + "})";
+                      p["last_print"].value("state", "") + " at command " +
+                      std::to_string(p["last_print"].value("confirmed", 0LL)) +
+                      ": resume with POST /api/v1/printers/" + p.value("id", "") +
+                      "/print {\"resume\": " + std::to_string(p["last_print"].value("id", 0LL)) + "})";
             std::printf("%s\n", line.c_str());
           }
           return 0;

@@ -4,8 +4,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "clients/cli/commands.hpp"
 #include "clients/cli/cli_options.hpp"
+#include "clients/cli/commands.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/slicing/comparison.hpp"
@@ -29,8 +29,8 @@ void add_segopt_rows(const core::PlanningSetup& setup, core::Comparison& c) {
     row.rsmd_at_rsmd = e_coarse > 0 ? core::regions_error(r.regions) / e_coarse : 0;
     row.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     char minutes[96];
-    std::snprintf(minutes, sizeof minutes, "; print %.1f min vs %.1f min unsegmented (generic-i3)", r.seconds / 60,
-                  r.whole_seconds / 60);
+    std::snprintf(minutes, sizeof minutes, "; print %.1f min vs %.1f min unsegmented (generic-i3)",
+                  r.seconds / 60, r.whole_seconds / 60);
     row.note = r.note + minutes;
     c.rows.push_back(std::move(row));
   }
@@ -68,30 +68,39 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
                           {"seconds", r.seconds},
                           {"note", r.note}});
         nlohmann::json trace = nlohmann::json::array();
-        for (const auto& s : c.adapslice_trace) trace.push_back({{"step", s.step}, {"layers", s.layers}, {"E", s.error}});
-        const nlohmann::json j = {{"model", name},       {"metric", o->plan.metric},
-                                  {"saliency", o->plan.saliency}, {"rho", c.rho},
-                                  {"epsilon", c.epsilon},   {"reference_layers", c.reference_layers},
-                                  {"reference_rsmd", c.reference_rsmd}, {"fine_layers", c.fine_layers},
-                                  {"coarse_layers", c.coarse_layers}, {"rows", rows},
+        for (const auto& s : c.adapslice_trace)
+          trace.push_back({{"step", s.step}, {"layers", s.layers}, {"E", s.error}});
+        const nlohmann::json j = {{"model", name},
+                                  {"metric", o->plan.metric},
+                                  {"saliency", o->plan.saliency},
+                                  {"rho", c.rho},
+                                  {"epsilon", c.epsilon},
+                                  {"reference_layers", c.reference_layers},
+                                  {"reference_rsmd", c.reference_rsmd},
+                                  {"fine_layers", c.fine_layers},
+                                  {"coarse_layers", c.coarse_layers},
+                                  {"rows", rows},
                                   {"adapslice_trace", trace}};
         std::printf("%s\n", j.dump(2).c_str());
         return 0;
       }
-      std::printf("%s: %s metric, %s saliency, rho %.3g; exact needs %d layers (fine %d, coarse %d), RSMD %.4f\n",
-                  name.c_str(), o->plan.metric.c_str(), o->plan.saliency.c_str(), c.rho, c.reference_layers, c.fine_layers,
-                  c.coarse_layers, c.reference_rsmd);
-      std::printf("%-16s %14s %16s %9s  %s\n", "planner", "RSMD @ layers", "layers @ RSMD", "seconds", "note");
+      std::printf(
+          "%s: %s metric, %s saliency, rho %.3g; exact needs %d layers (fine %d, coarse %d), RSMD %.4f\n",
+          name.c_str(), o->plan.metric.c_str(), o->plan.saliency.c_str(), c.rho, c.reference_layers,
+          c.fine_layers, c.coarse_layers, c.reference_rsmd);
+      std::printf("%-16s %14s %16s %9s  %s\n", "planner", "RSMD @ layers", "layers @ RSMD", "seconds",
+                  "note");
       for (const auto& r : c.rows) {
         if (r.layers_at_count > 0)
-          std::printf("%-16s %8.4f @%4d %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), r.rsmd_at_count, r.layers_at_count,
-                      r.layers_at_rsmd, r.rsmd_at_rsmd, r.seconds, r.note.c_str());
+          std::printf("%-16s %8.4f @%4d %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), r.rsmd_at_count,
+                      r.layers_at_count, r.layers_at_rsmd, r.rsmd_at_rsmd, r.seconds, r.note.c_str());
         else  // the segopt rows: at ρ only
-          std::printf("%-16s %14s %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), "-", r.layers_at_rsmd, r.rsmd_at_rsmd,
-                      r.seconds, r.note.c_str());
+          std::printf("%-16s %14s %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), "-", r.layers_at_rsmd,
+                      r.rsmd_at_rsmd, r.seconds, r.note.c_str());
       }
       std::printf("adapslice trace:");
-      for (const auto& s : c.adapslice_trace) std::printf(" %s %d (E %.4g);", s.step.c_str(), s.layers, s.error);
+      for (const auto& s : c.adapslice_trace)
+        std::printf(" %s %d (E %.4g);", s.step.c_str(), s.layers, s.error);
       std::printf("\n");
       return 0;
     };

@@ -35,8 +35,10 @@ DaemonAddress resolve_daemon(const std::string& server_option, const std::string
     if (const char* env = std::getenv("SALIENT_SERVER")) server = env;
   if (!server.empty()) {
     std::string rest = server;
-    if (rest.rfind("http://", 0) == 0) rest = rest.substr(7);
-    else if (rest.find("://") != std::string::npos) throw DaemonError(0, "--server: only http:// is supported, got " + server);
+    if (rest.rfind("http://", 0) == 0)
+      rest = rest.substr(7);
+    else if (rest.find("://") != std::string::npos)
+      throw DaemonError(0, "--server: only http:// is supported, got " + server);
     rest = rest.substr(0, rest.find('/'));
     const std::size_t colon = rest.rfind(':');
     a.host = rest.substr(0, colon);
@@ -68,8 +70,8 @@ struct DaemonClient::Impl {
     beast::error_code ec;
     stream.connect(resolve(), ec);
     if (ec)
-      throw DaemonError(0, "cannot reach salientd at " + address.host + ":" + address.port + " (" + ec.message() +
-                               "): is it running? (make run)");
+      throw DaemonError(0, "cannot reach salientd at " + address.host + ":" + address.port + " (" +
+                               ec.message() + "): is it running? (make run)");
     req.set(http::field::host, address.host + ":" + address.port);
     req.set("X-Api-Key", address.key);
     req.prepare_payload();
@@ -80,19 +82,21 @@ struct DaemonClient::Impl {
     if (!ec) http::read(stream, buffer, parser, ec);
     if (ec) throw DaemonError(0, "salientd at " + address.host + ":" + address.port + ": " + ec.message());
     auto& res = parser.get();
-    DaemonReply out{static_cast<int>(res.result_int()), std::move(res.body()), std::string(res[http::field::content_type]),
-                    std::string(res[http::field::location])};
+    DaemonReply out{static_cast<int>(res.result_int()), std::move(res.body()),
+                    std::string(res[http::field::content_type]), std::string(res[http::field::location])};
     stream.socket().shutdown(tcp::socket::shutdown_both, ec);
     if (out.status >= 400) throw DaemonError(out.status, error_message(out.body, out.status));
     return out;
   }
 };
 
-DaemonClient::DaemonClient(DaemonAddress address) : impl_(std::make_unique<Impl>()) { impl_->address = std::move(address); }
+DaemonClient::DaemonClient(DaemonAddress address) : impl_(std::make_unique<Impl>()) {
+  impl_->address = std::move(address);
+}
 DaemonClient::~DaemonClient() = default;
 
-DaemonReply DaemonClient::request(const std::string& method, const std::string& target, const std::string& body,
-                                  const std::string& content_type) {
+DaemonReply DaemonClient::request(const std::string& method, const std::string& target,
+                                  const std::string& body, const std::string& content_type) {
   http::request<http::string_body> req(http::string_to_verb(method), target, 11);
   if (!body.empty()) {
     req.set(http::field::content_type, content_type);
@@ -101,28 +105,34 @@ DaemonReply DaemonClient::request(const std::string& method, const std::string& 
   return impl_->exchange(req);
 }
 
-DaemonReply DaemonClient::upload(const std::string& target, const std::string& field, const std::string& filename,
-                                 const std::string& bytes, const std::vector<std::pair<std::string, std::string>>& fields) {
+DaemonReply DaemonClient::upload(const std::string& target, const std::string& field,
+                                 const std::string& filename, const std::string& bytes,
+                                 const std::vector<std::pair<std::string, std::string>>& fields) {
   std::mt19937_64 rng{std::random_device{}()};
   const std::string boundary = "----salient" + std::to_string(rng());
   std::string body;
   for (const auto& [name, value] : fields)
-    body += "--" + boundary + "\r\nContent-Disposition: form-data; name=\"" + name + "\"\r\n\r\n" + value + "\r\n";
-  body += "--" + boundary + "\r\nContent-Disposition: form-data; name=\"" + field + "\"; filename=\"" + filename +
-          "\"\r\nContent-Type: application/octet-stream\r\n\r\n";
+    body += "--" + boundary + "\r\nContent-Disposition: form-data; name=\"" + name + "\"\r\n\r\n" + value +
+            "\r\n";
+  body += "--" + boundary + "\r\nContent-Disposition: form-data; name=\"" + field + "\"; filename=\"" +
+          filename + "\"\r\nContent-Type: application/octet-stream\r\n\r\n";
   body += bytes;
   body += "\r\n--" + boundary + "--\r\n";
   return request("POST", target, body, "multipart/form-data; boundary=" + boundary);
 }
 
-void DaemonClient::watch(const std::vector<std::string>& topics, const std::function<bool(const std::string&)>& on_message) {
+void DaemonClient::watch(const std::vector<std::string>& topics,
+                         const std::function<bool(const std::string&)>& on_message) {
   const std::string target = "/api/v1/events";
   websocket::stream<beast::tcp_stream> ws(impl_->io);
   beast::error_code ec;
   beast::get_lowest_layer(ws).connect(impl_->resolve(), ec);
-  if (ec) throw DaemonError(0, "cannot reach salientd at " + impl_->address.host + ":" + impl_->address.port + ": " + ec.message());
+  if (ec)
+    throw DaemonError(0, "cannot reach salientd at " + impl_->address.host + ":" + impl_->address.port +
+                             ": " + ec.message());
   const std::string key = impl_->address.key;
-  ws.set_option(websocket::stream_base::decorator([key](websocket::request_type& r) { r.set("X-Api-Key", key); }));
+  ws.set_option(
+      websocket::stream_base::decorator([key](websocket::request_type& r) { r.set("X-Api-Key", key); }));
   ws.handshake(impl_->address.host + ":" + impl_->address.port, target, ec);
   if (ec) {
     request("GET", target);  // a plain GET says why (401 bad key…) and throws
@@ -138,7 +148,8 @@ void DaemonClient::watch(const std::vector<std::string>& topics, const std::func
     ws.read(buffer, ec);
     if (ec == websocket::error::closed) {
       const std::string reason(ws.reason().reason.c_str());
-      throw DaemonError(0, "salientd closed the event stream" + (reason.empty() ? std::string() : ": " + reason));
+      throw DaemonError(
+          0, "salientd closed the event stream" + (reason.empty() ? std::string() : ": " + reason));
     }
     if (ec) throw DaemonError(0, "event stream: " + ec.message());
     const std::string text = beast::buffers_to_string(buffer.data());

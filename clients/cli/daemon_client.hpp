@@ -44,10 +44,12 @@ class DaemonClient {
                       const std::string& content_type = "application/json");
   // POST multipart/form-data with the file under `field` and extra text fields.
   DaemonReply upload(const std::string& target, const std::string& field, const std::string& filename,
-                     const std::string& bytes, const std::vector<std::pair<std::string, std::string>>& fields);
+                     const std::string& bytes,
+                     const std::vector<std::pair<std::string, std::string>>& fields);
   // Opens /api/v1/events, subscribes to `topics`, and calls `on_message` with each message (the
   // topics' current state first, then {"type": "subscribed"}, then events) until it returns false.
-  void watch(const std::vector<std::string>& topics, const std::function<bool(const std::string&)>& on_message);
+  void watch(const std::vector<std::string>& topics,
+             const std::function<bool(const std::string&)>& on_message);
 
  private:
   struct Impl;

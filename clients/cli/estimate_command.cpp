@@ -34,14 +34,16 @@ core::PrinterProfile resolve_printer(const std::string& spec) {
   if (auto p = core::builtin_printer(spec)) return *p;
   std::string known;
   for (const std::string& id : core::builtin_printer_ids()) known += (known.empty() ? "" : ", ") + id;
-  throw core::InputError("--printer", {}, "unknown printer '" + spec + "' (built in: " + known + "; or a .toml file)");
+  throw core::InputError("--printer", {},
+                         "unknown printer '" + spec + "' (built in: " + known + "; or a .toml file)");
 }
 
 void add_estimate_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<EstimateOptions>();
   CLI::App* cmd = app.add_subcommand("estimate", "Estimate the print time of a G-code file");
   cmd->add_option("FILE", o->file, "G-code file")->required();
-  cmd->add_option("--printer", o->printer, "Printer profile (built-in id or .toml) for acceleration and jerk");
+  cmd->add_option("--printer", o->printer,
+                  "Printer profile (built-in id or .toml) for acceleration and jerk");
   cmd->add_flag("--json", o->json, "Print JSON instead of text");
   cmd->callback([o, &action] {
     action = [o] {
@@ -58,13 +60,18 @@ void add_estimate_command(CLI::App& app, CommandAction& action) {
       text << in.rdbuf();
       const core::GcodeEstimate e = core::estimate_gcode(text.str(), name, limits);
       if (o->json) {
-        const nlohmann::json j = {{"file", name},          {"seconds", e.seconds},           {"layers", e.layer_seconds.size()},
-                                  {"layer_seconds", e.layer_seconds}, {"filament_mm", e.filament_mm},
-                                  {"moves", e.moves},      {"lines", e.lines},               {"heating_waits", e.heating_waits}};
+        const nlohmann::json j = {{"file", name},
+                                  {"seconds", e.seconds},
+                                  {"layers", e.layer_seconds.size()},
+                                  {"layer_seconds", e.layer_seconds},
+                                  {"filament_mm", e.filament_mm},
+                                  {"moves", e.moves},
+                                  {"lines", e.lines},
+                                  {"heating_waits", e.heating_waits}};
         std::printf("%s\n", j.dump(2).c_str());
       } else {
-        std::printf("%s: %s (%.0f s) over %zu layers, %.1f m of filament, %zu moves%s\n", name.c_str(), hms(e.seconds).c_str(),
-                    e.seconds, e.layer_seconds.size(), e.filament_mm / 1000, e.moves,
+        std::printf("%s: %s (%.0f s) over %zu layers, %.1f m of filament, %zu moves%s\n", name.c_str(),
+                    hms(e.seconds).c_str(), e.seconds, e.layer_seconds.size(), e.filament_mm / 1000, e.moves,
                     e.heating_waits ? ", plus heating" : "");
       }
       return 0;

@@ -4,8 +4,8 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
-#include "clients/cli/commands.hpp"
 #include "clients/cli/cli_options.hpp"
+#include "clients/cli/commands.hpp"
 #include "core/orient/orientation.hpp"
 
 namespace salient::cli {
@@ -30,7 +30,10 @@ nlohmann::json to_json(const core::PlacedModel& m) {
       {"vertices_read", l.vertices_read},
       {"has_colors", l.mesh.has_colors()},
       {"has_quality", l.mesh.has_quality()},
-      {"placement", {{"up", (m.up_direction ? core::direction_text(*m.up_direction) : std::string(core::up_axis_name(m.up)))}, {"scale", m.placement.scale}}},
+      {"placement",
+       {{"up",
+         (m.up_direction ? core::direction_text(*m.up_direction) : std::string(core::up_axis_name(m.up)))},
+        {"scale", m.placement.scale}}},
       {"size_mm", {size.x, size.y, size.z}},
       {"bounds_mm", {{"min", {b.min.x, b.min.y, b.min.z}}, {"max", {b.max.x, b.max.y, b.max.z}}}},
       {"volume_mm3", core::signed_volume(l.mesh)},
@@ -54,13 +57,15 @@ void print_text(const std::string& name, const core::PlacedModel& m) {
   const core::LoadedMesh& l = m.loaded;
   const core::RepairReport& r = l.repair;
   const core::Vec3 size = m.placement.bounds.size();
-  std::printf("%s: %s, %zu faces read (%zu triangles)\n", name.c_str(), std::string(core::format_name(l.format)).c_str(),
-              l.polygons, l.triangles_read);
+  std::printf("%s: %s, %zu faces read (%zu triangles)\n", name.c_str(),
+              std::string(core::format_name(l.format)).c_str(), l.polygons, l.triangles_read);
   std::printf("  mesh        %zu vertices, %zu triangles, %zu part%s%s%s\n", l.mesh.vertex_count(),
               l.mesh.triangle_count(), r.components, r.components == 1 ? "" : "s",
               l.mesh.has_colors() ? ", vertex colours" : "", l.mesh.has_quality() ? ", vertex quality" : "");
   std::printf("  size        %.6g x %.6g x %.6g mm (up %s, scale %.6g)\n", size.x, size.y, size.z,
-              (m.up_direction ? core::direction_text(*m.up_direction) : std::string(core::up_axis_name(m.up))).c_str(), m.placement.scale);
+              (m.up_direction ? core::direction_text(*m.up_direction) : std::string(core::up_axis_name(m.up)))
+                  .c_str(),
+              m.placement.scale);
   std::printf("  volume      %.6g mm3\n", core::signed_volume(l.mesh));
   std::printf("  area        %.6g mm2\n", core::surface_area(l.mesh));
   std::printf("  watertight  %s\n", r.watertight ? "yes" : "no");

@@ -5,10 +5,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
-#include "clients/cli/commands.hpp"
 #include "clients/cli/cli_options.hpp"
-#include "core/common/input_error.hpp"
+#include "clients/cli/commands.hpp"
 #include "clients/cli/segment_report.hpp"
+#include "core/common/input_error.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/segment/regions_svg.hpp"
@@ -29,8 +29,12 @@ nlohmann::json plan_json(const core::PlanningSetup& s, const std::string& planne
   const core::ZProfile& p = *s.profile;
   nlohmann::json layers = nlohmann::json::array();
   for (const core::LayerReport& l : obj.layers(r.plan))
-    layers.push_back({{"z_bottom", l.z_bottom}, {"z_top", l.z_top}, {"height", l.height}, {"saliency", l.saliency},
-                      {"cos", l.cos}, {"sm", l.sm}});
+    layers.push_back({{"z_bottom", l.z_bottom},
+                      {"z_top", l.z_top},
+                      {"height", l.height},
+                      {"saliency", l.saliency},
+                      {"cos", l.cos},
+                      {"sm", l.sm}});
   nlohmann::json trace = nlohmann::json::array();
   for (const core::PlanStep& step : r.trace)
     trace.push_back({{"step", step.step}, {"layers", step.layers}, {"E", step.error}});
@@ -65,7 +69,8 @@ void write_file(const std::string& path, const std::string& text) {
 }
 
 // plan --segment: SegOpt's regions, timed on the generic-i3 profile (plan has no printer).
-int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup, const core::Planner& planner) {
+int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup,
+                   const core::Planner& planner) {
   const auto printer = core::builtin_printer("generic-i3");
   const auto t0 = std::chrono::steady_clock::now();
   core::SegOptOptions options;
@@ -75,21 +80,28 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const core::ZProfile& p = *setup.profile;
   const std::vector<double> heights = core::printed_heights(p, r.regions);
-  nlohmann::json j = {{"planner", o.plan.planner}, {"metric", o.plan.metric}, {"rho", setup.rho},
-                      {"count", heights.size()},   {"fine_layers", p.most_layers()}, {"seconds", seconds},
-                      {"printed_heights", heights}, {"segmentation", segmentation_json(r, p)}};
+  nlohmann::json j = {{"planner", o.plan.planner},
+                      {"metric", o.plan.metric},
+                      {"rho", setup.rho},
+                      {"count", heights.size()},
+                      {"fine_layers", p.most_layers()},
+                      {"seconds", seconds},
+                      {"printed_heights", heights},
+                      {"segmentation", segmentation_json(r, p)}};
   if (!o.output.empty()) write_file(o.output, j.dump(2) + "\n");
   const std::string name = std::filesystem::path(o.plan.mesh.model).filename().string();
   if (!o.svg.empty())
-    write_file(o.svg, core::regions_svg(p, r.regions, name + " — " + o.plan.planner + "+segopt, " +
-                                                        std::to_string(heights.size()) + " printed layers"));
+    write_file(o.svg, core::regions_svg(p, r.regions,
+                                        name + " — " + o.plan.planner + "+segopt, " +
+                                            std::to_string(heights.size()) + " printed layers"));
   if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
     return 0;
   }
   std::printf("%s: %s planner with SegOpt, %s metric, %s saliency\n", name.c_str(), o.plan.planner.c_str(),
               o.plan.metric.c_str(), o.plan.saliency.c_str());
-  std::printf("  layers   %zu printed heights (fine %d)\n  time     %.3f s\n", heights.size(), p.most_layers(), seconds);
+  std::printf("  layers   %zu printed heights (fine %d)\n  time     %.3f s\n", heights.size(),
+              p.most_layers(), seconds);
   print_segmentation(r, p);
   return 0;
 }
@@ -100,7 +112,8 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<PlanCommandOptions>();
   CLI::App* cmd = app.add_subcommand("plan", "Choose layer thicknesses for a model");
   add_plan_options(*cmd, o->plan, o->json);
-  cmd->add_option("--planner", o->plan.planner, "Planner: exact, adapslice, hms, uniform, cusp, stepwise, ha13, ceo, random, fine, coarse")
+  cmd->add_option("--planner", o->plan.planner,
+                  "Planner: exact, adapslice, hms, uniform, cusp, stepwise, ha13, ceo, random, fine, coarse")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output, "Write the plan as JSON to this file");
   cmd->add_option("--svg", o->svg, "Write a plot of the plan (thickness and saliency against height)");
@@ -125,17 +138,19 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       if (!o->output.empty()) write_file(o->output, j.dump(2) + "\n");
       const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
       if (!o->svg.empty())
-        write_file(o->svg, core::plan_svg(*setup->objective, result.plan, name + " — " + o->plan.planner + ", " +
-                                                                              std::to_string(result.plan.layer_count()) + " layers"));
+        write_file(o->svg, core::plan_svg(*setup->objective, result.plan,
+                                          name + " — " + o->plan.planner + ", " +
+                                              std::to_string(result.plan.layer_count()) + " layers"));
       if (o->json) {
         std::printf("%s\n", j.dump(2).c_str());
         return 0;
       }
       const core::ZProfile& p = *setup->profile;
-      std::printf("%s: %s planner, %s metric, %s saliency\n", name.c_str(), o->plan.planner.c_str(), o->plan.metric.c_str(),
-                  o->plan.saliency.c_str());
+      std::printf("%s: %s planner, %s metric, %s saliency\n", name.c_str(), o->plan.planner.c_str(),
+                  o->plan.metric.c_str(), o->plan.saliency.c_str());
       std::printf("  layers   %d (fine %d, coarse %d): %.1f%% fewer than fine\n", result.plan.layer_count(),
-                  p.most_layers(), p.fewest_layers(), 100.0 * (1 - double(result.plan.layer_count()) / p.most_layers()));
+                  p.most_layers(), p.fewest_layers(),
+                  100.0 * (1 - double(result.plan.layer_count()) / p.most_layers()));
       std::printf("  E        %.6g", setup->objective->error(result.plan));
       if (target.epsilon) std::printf(" (epsilon %.6g = %.3g x E(coarse))", *target.epsilon, setup->rho);
       std::printf("\n  RSMD     %.6g\n  time     %.3f s\n", setup->objective->rsmd(result.plan), seconds);

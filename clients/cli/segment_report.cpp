@@ -18,15 +18,19 @@ std::string part_name(const core::PlanRegion& r) {
 void print_segmentation(const core::SegOptResult& r, const core::ZProfile& whole) {
   std::printf("segmentation: %s\n", r.note.c_str());
   if (r.seam)
-    std::printf("  plane     %.3f x + %.3f y = %.2f: seam %.1f mm, mean Q + 0.3 S %.3f, D %.3f, f(C) %.3f, smaller part %.0f%%\n",
-                r.seam->plane.nx, r.seam->plane.ny, r.seam->plane.offset, r.seam->length, r.seam->seam_mean,
-                r.seam->difference, r.seam->cost, 100 * r.seam->share);
+    std::printf(
+        "  plane     %.3f x + %.3f y = %.2f: seam %.1f mm, mean Q + 0.3 S %.3f, D %.3f, f(C) %.3f, smaller "
+        "part %.0f%%\n",
+        r.seam->plane.nx, r.seam->plane.ny, r.seam->plane.offset, r.seam->length, r.seam->seam_mean,
+        r.seam->difference, r.seam->cost, 100 * r.seam->share);
   std::printf("  time      whole %.1f min", r.whole_seconds / 60);
-  if (r.parts_seconds > 0) std::printf(", parts %.1f min (%.0f%%)", r.parts_seconds / 60, 100 * r.parts_seconds / r.whole_seconds);
+  if (r.parts_seconds > 0)
+    std::printf(", parts %.1f min (%.0f%%)", r.parts_seconds / 60, 100 * r.parts_seconds / r.whole_seconds);
   std::printf(", result %.1f min\n", r.seconds / 60);
   for (const core::PlanRegion& region : r.regions)
-    std::printf("  region    %-10s z %7.2f..%7.2f mm  %4d layers  E %.6g (epsilon %.6g)\n", part_name(region).c_str(),
-                whole.z(region.first_cell), whole.z(region.last_cell), region.layers(), region.error, region.epsilon);
+    std::printf("  region    %-10s z %7.2f..%7.2f mm  %4d layers  E %.6g (epsilon %.6g)\n",
+                part_name(region).c_str(), whole.z(region.first_cell), whole.z(region.last_cell),
+                region.layers(), region.error, region.epsilon);
 }
 
 nlohmann::json segmentation_json(const core::SegOptResult& r, const core::ZProfile& whole) {
@@ -36,21 +40,34 @@ nlohmann::json segmentation_json(const core::SegOptResult& r, const core::ZProfi
     for (int b : region.plan.boundaries) z.push_back(whole.z(b));
     nlohmann::json clip = nlohmann::json::array();
     for (const core::Point2& p : region.clip) clip.push_back({p.x, p.y});
-    regions.push_back({{"side", region.side}, {"sub", region.sub}, {"z_bottom", whole.z(region.first_cell)}, {"z_top", whole.z(region.last_cell)},
-                       {"layers", region.layers()}, {"E", region.error}, {"epsilon", region.epsilon},
-                       {"boundaries", z}, {"clip", clip}});
+    regions.push_back({{"side", region.side},
+                       {"sub", region.sub},
+                       {"z_bottom", whole.z(region.first_cell)},
+                       {"z_top", whole.z(region.last_cell)},
+                       {"layers", region.layers()},
+                       {"E", region.error},
+                       {"epsilon", region.epsilon},
+                       {"boundaries", z},
+                       {"clip", clip}});
   }
   nlohmann::json slabs = nlohmann::json::array();
   for (const core::Slab& s : r.slabs)
-    slabs.push_back({{"z_bottom", whole.z(s.first_cell)}, {"z_top", whole.z(s.last_cell)}, {"merged", s.merged},
+    slabs.push_back({{"z_bottom", whole.z(s.first_cell)},
+                     {"z_top", whole.z(s.last_cell)},
+                     {"merged", s.merged},
                      {"loss", {s.loss[0], s.loss[1]}}});
-  nlohmann::json j = {{"cut", r.cut},         {"note", r.note},       {"whole_seconds", r.whole_seconds},
-                      {"parts_seconds", r.parts_seconds}, {"seconds", r.seconds}, {"regions", regions},
+  nlohmann::json j = {{"cut", r.cut},
+                      {"note", r.note},
+                      {"whole_seconds", r.whole_seconds},
+                      {"parts_seconds", r.parts_seconds},
+                      {"seconds", r.seconds},
+                      {"regions", regions},
                       {"slabs", slabs}};
   if (r.seam)
-    j["plane"] = {{"nx", r.seam->plane.nx},   {"ny", r.seam->plane.ny},       {"offset", r.seam->plane.offset},
-                  {"cost", r.seam->cost},     {"seam_mean", r.seam->seam_mean}, {"difference", r.seam->difference},
-                  {"length", r.seam->length}, {"share", r.seam->share}};
+    j["plane"] = {{"nx", r.seam->plane.nx},         {"ny", r.seam->plane.ny},
+                  {"offset", r.seam->plane.offset}, {"cost", r.seam->cost},
+                  {"seam_mean", r.seam->seam_mean}, {"difference", r.seam->difference},
+                  {"length", r.seam->length},       {"share", r.seam->share}};
   return j;
 }
 

@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <fstream>
 
-#include "clients/cli/commands.hpp"
 #include "clients/cli/cli_options.hpp"
+#include "clients/cli/commands.hpp"
 #include "core/common/input_error.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
 
@@ -51,21 +51,27 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
   CLI::App* cmd = app.add_subcommand("slice", "Plan the layers of a model and write G-code for a printer");
   add_plan_options(*cmd, o->plan, o->json);
   cmd->add_option("--planner", o->plan.planner, "Planner (see `salient plan --help`)")->capture_default_str();
-  cmd->add_option("--printer", o->printer, "Printer profile: built-in id (ender3, generic-i3, replicator2x) or a .toml file")
+  cmd->add_option("--printer", o->printer,
+                  "Printer profile: built-in id (ender3, generic-i3, replicator2x) or a .toml file")
       ->capture_default_str();
   cmd->add_option("-o,--output", o->output, "G-code file to write")->required();
-  cmd->add_option("--walls", o->toolpaths.walls, "Number of walls")->capture_default_str()->check(CLI::Range(1, 20));
+  cmd->add_option("--walls", o->toolpaths.walls, "Number of walls")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 20));
   cmd->add_option("--infill", o->toolpaths.infill_density, "Sparse infill density, 0..1")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   cmd->add_option("--line-width", o->toolpaths.line_width, "Extrusion width (mm)")->capture_default_str();
-  cmd->add_option("--top-thickness", o->toolpaths.top_thickness, "Solid skin under top surfaces (mm)")->capture_default_str();
-  cmd->add_option("--bottom-thickness", o->toolpaths.bottom_thickness, "Solid skin over bottom surfaces (mm)")->capture_default_str();
+  cmd->add_option("--top-thickness", o->toolpaths.top_thickness, "Solid skin under top surfaces (mm)")
+      ->capture_default_str();
+  cmd->add_option("--bottom-thickness", o->toolpaths.bottom_thickness, "Solid skin over bottom surfaces (mm)")
+      ->capture_default_str();
   cmd->add_option("--combine-infill", o->combine_infill,
                   "Print sparse infill once for thin layers that fit under the printer's thickest layer")
       ->capture_default_str();
   cmd->add_flag("--support", o->support, "Add support under overhangs");
-  cmd->add_option("--support-angle", o->support_settings.angle, "Overhangs steeper than this from vertical get support (°)")
+  cmd->add_option("--support-angle", o->support_settings.angle,
+                  "Overhangs steeper than this from vertical get support (°)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 89.0));
   auto* min_layer = cmd->get_option("--min-layer");
@@ -82,20 +88,24 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       settings.support = o->support;
       settings.support_settings = o->support_settings;
       const auto t0 = std::chrono::steady_clock::now();
-      const core::SliceResult r = core::slice_model(settings, printer, core::RunContext{nullptr, progress_line()});
+      const core::SliceResult r =
+          core::slice_model(settings, printer, core::RunContext{nullptr, progress_line()});
       write_atomically(o->output, r.gcode);
       if (r.orientation) print_orientation(*r.orientation);
       if (r.segmentation) {
-        std::printf("segmentation: %s; whole %.1f min, parts %.1f min, result %.1f min\n", r.segmentation->note.c_str(),
-                    r.segmentation->whole_seconds / 60, r.segmentation->parts_seconds / 60, r.segmentation->seconds / 60);
+        std::printf("segmentation: %s; whole %.1f min, parts %.1f min, result %.1f min\n",
+                    r.segmentation->note.c_str(), r.segmentation->whole_seconds / 60,
+                    r.segmentation->parts_seconds / 60, r.segmentation->seconds / 60);
       }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::printf("%s: %d layers (finest %d, %.1f%% fewer) for %s; print %.0f min, %.2f m filament; sliced in %.2f s -> %s\n",
-                  r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),
-                  printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds, o->output.c_str());
+      std::printf(
+          "%s: %d layers (finest %d, %.1f%% fewer) for %s; print %.0f min, %.2f m filament; sliced in %.2f s "
+          "-> %s\n",
+          r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),
+          printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds, o->output.c_str());
       if (r.open_contours > 0)
-        std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n", r.open_contours,
-                    o->toolpaths.max_gap);
+        std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n",
+                    r.open_contours, o->toolpaths.max_gap);
       return 0;
     };
   });

@@ -4,8 +4,7 @@
 namespace salient::core {
 namespace {
 
-std::string format(const std::string& source, const InputLocation& where,
-                   const std::string& message) {
+std::string format(const std::string& source, const InputLocation& where, const std::string& message) {
   std::string out = source.empty() ? std::string("<input>") : source;
   if (where.line) {
     out += ':' + std::to_string(*where.line) + ": ";

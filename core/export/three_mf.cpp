@@ -6,16 +6,17 @@
 #include <fstream>
 #include <sstream>
 
-#include "core/common/input_error.hpp"
 #include "core/common/fixed_text.hpp"
+#include "core/common/input_error.hpp"
 #include "core/common/xml_escape.hpp"
 #include "core/export/zip_writer.hpp"
 
 namespace salient::core {
 namespace {
 
-std::string num(double v) { return fixed_text(v, 6); }
-
+std::string num(double v) {
+  return fixed_text(v, 6);
+}
 
 }  // namespace
 
@@ -39,22 +40,29 @@ std::string prusa_layer_height_profile(const std::vector<double>& z) {
 std::string three_mf(const Mesh& mesh, const std::vector<double>& z, const std::string& object_name) {
   std::ostringstream model;
   model << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
-        << "<model unit=\"millimeter\" xml:lang=\"en-US\" xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n"
+        << "<model unit=\"millimeter\" xml:lang=\"en-US\" "
+           "xmlns=\"http://schemas.microsoft.com/3dmanufacturing/core/2015/02\">\n"
         << " <metadata name=\"Application\">salient</metadata>\n"
-        << " <resources>\n  <object id=\"1\" name=\"" << xml_escape(object_name) << "\" type=\"model\">\n   <mesh>\n    <vertices>\n";
+        << " <resources>\n  <object id=\"1\" name=\"" << xml_escape(object_name)
+        << "\" type=\"model\">\n   <mesh>\n    <vertices>\n";
   for (const Vec3& p : mesh.positions)
     model << "     <vertex x=\"" << num(p.x) << "\" y=\"" << num(p.y) << "\" z=\"" << num(p.z) << "\"/>\n";
   model << "    </vertices>\n    <triangles>\n";
   for (const Triangle& t : mesh.triangles)
     model << "     <triangle v1=\"" << t[0] << "\" v2=\"" << t[1] << "\" v3=\"" << t[2] << "\"/>\n";
-  model << "    </triangles>\n   </mesh>\n  </object>\n </resources>\n <build>\n  <item objectid=\"1\"/>\n </build>\n</model>\n";
+  model << "    </triangles>\n   </mesh>\n  </object>\n </resources>\n <build>\n  <item objectid=\"1\"/>\n "
+           "</build>\n</model>\n";
   ZipWriter zip;
-  zip.add("[Content_Types].xml",
-          "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
-          "<Default Extension=\"rels\" ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
-          "<Default Extension=\"model\" ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>\n");
+  zip.add(
+      "[Content_Types].xml",
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Types "
+      "xmlns=\"http://schemas.openxmlformats.org/package/2006/content-types\">"
+      "<Default Extension=\"rels\" ContentType=\"application/vnd.openxmlformats-package.relationships+xml\"/>"
+      "<Default Extension=\"model\" "
+      "ContentType=\"application/vnd.ms-package.3dmanufacturing-3dmodel+xml\"/></Types>\n");
   zip.add("_rels/.rels",
-          "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
+          "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<Relationships "
+          "xmlns=\"http://schemas.openxmlformats.org/package/2006/relationships\">"
           "<Relationship Target=\"/3D/3dmodel.model\" Id=\"rel0\" "
           "Type=\"http://schemas.microsoft.com/3dmanufacturing/2013/01/3dmodel\"/></Relationships>\n");
   zip.add("3D/3dmodel.model", model.str());

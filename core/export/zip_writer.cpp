@@ -17,20 +17,23 @@ void put32(std::string& out, std::uint32_t v) {
   put16(out, v >> 16);
 }
 
-constexpr std::uint32_t dos_date = (46u << 9) | (11u << 5) | 22u;  // 2026-11-22: fixed, so builds are reproducible
+constexpr std::uint32_t dos_date =
+    (46u << 9) | (11u << 5) | 22u;  // 2026-11-22: fixed, so builds are reproducible
 
 }  // namespace
 
 void ZipWriter::add(std::string name, std::string_view data) {
-  if (data.size() > 0xffffffffu || body_.size() > 0xffffffffu) throw std::length_error("ZipWriter: entry too large (no ZIP64)");
-  Entry e{std::move(name), static_cast<std::uint32_t>(crc32(0L, reinterpret_cast<const Bytef*>(data.data()),
-                                                             static_cast<uInt>(data.size()))),
+  if (data.size() > 0xffffffffu || body_.size() > 0xffffffffu)
+    throw std::length_error("ZipWriter: entry too large (no ZIP64)");
+  Entry e{std::move(name),
+          static_cast<std::uint32_t>(
+              crc32(0L, reinterpret_cast<const Bytef*>(data.data()), static_cast<uInt>(data.size()))),
           static_cast<std::uint32_t>(data.size()), static_cast<std::uint32_t>(body_.size())};
   put32(body_, 0x04034b50);
-  put16(body_, 20);  // version needed
+  put16(body_, 20);      // version needed
   put16(body_, 0x0800);  // UTF-8 names
-  put16(body_, 0);   // stored
-  put16(body_, 0);   // time
+  put16(body_, 0);       // stored
+  put16(body_, 0);       // time
   put16(body_, dos_date);
   put32(body_, e.crc);
   put32(body_, e.size);

@@ -45,8 +45,8 @@ GcodeLine parse_gcode_line(std::string_view line, GcodeError& error) {
     }
     ++i;
     std::size_t end = i;
-    while (end < line.size() && !std::isspace(static_cast<unsigned char>(line[end])) && !std::isalpha(static_cast<unsigned char>(line[end])) &&
-           line[end] != '(')
+    while (end < line.size() && !std::isspace(static_cast<unsigned char>(line[end])) &&
+           !std::isalpha(static_cast<unsigned char>(line[end])) && line[end] != '(')
       ++end;
     std::string_view num = line.substr(i, end - i);
     i = end;

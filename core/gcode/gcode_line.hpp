@@ -9,8 +9,8 @@
 namespace salient::core {
 
 struct GcodeLine {
-  char letter = 0;    // 'G', 'M', 'T' or 0 for a line with no command
-  int number = -1;    // 1 for G1, 104 for M104
+  char letter = 0;           // 'G', 'M', 'T' or 0 for a line with no command
+  int number = -1;           // 1 for G1, 104 for M104
   std::string_view comment;  // after ';', trimmed
   std::array<double, 26> values{};
   std::uint32_t present = 0;  // bit i set: parameter 'A' + i given

@@ -11,17 +11,17 @@
 namespace salient::core {
 
 struct GcodeSettings {
-  bool relative_e = true;           // M83 (ignored for Sailfish, which takes absolute E)
-  double retract_min_travel = 2.0;  // mm: shorter travels do not retract
-  double min_layer_time = 8.0;      // s: slower layers below it…
-  double min_print_speed = 10.0;    // mm/s: …but never slower than this (PrusaSlicer's default too)
-  int fan_from_layer = 1;           // 0-based index of the first layer with the part fan on
-  std::vector<std::string> summary; // lines for the header (the plan: planner, layers, saving…)
+  bool relative_e = true;            // M83 (ignored for Sailfish, which takes absolute E)
+  double retract_min_travel = 2.0;   // mm: shorter travels do not retract
+  double min_layer_time = 8.0;       // s: slower layers below it…
+  double min_print_speed = 10.0;     // mm/s: …but never slower than this (PrusaSlicer's default too)
+  int fan_from_layer = 1;            // 0-based index of the first layer with the part fan on
+  std::vector<std::string> summary;  // lines for the header (the plan: planner, layers, saving…)
 };
 
 struct GcodeResult {
   std::string text;
-  double seconds = 0;      // our estimate of the whole file
+  double seconds = 0;  // our estimate of the whole file
   double filament_mm = 0;
   std::size_t layers = 0;
 };

@@ -52,7 +52,9 @@ void push_point(Polygon& ring, const Point2& p) {
   if (ring.empty() || !(ring.back() == p)) ring.push_back(p);
 }
 
-double distance(const Point2& a, const Point2& b) { return std::hypot(a.x - b.x, a.y - b.y); }
+double distance(const Point2& a, const Point2& b) {
+  return std::hypot(a.x - b.x, a.y - b.y);
+}
 
 // Where the mesh has holes the chains stay open. Joins each chain's end to the nearest start of
 // another (within max_gap), then closes a chain whose ends are within max_gap; what is left is
@@ -136,11 +138,12 @@ Section chain(const std::vector<Segment>& segs, const SectionOptions& options) {
 
 }  // namespace
 
-std::vector<Section> section_mesh(const Mesh& mesh, std::span<const double> heights, const SectionOptions& options,
-                                  const RunContext& run) {
+std::vector<Section> section_mesh(const Mesh& mesh, std::span<const double> heights,
+                                  const SectionOptions& options, const RunContext& run) {
   std::vector<std::size_t> plane_order(heights.size());
   std::iota(plane_order.begin(), plane_order.end(), 0);
-  std::sort(plane_order.begin(), plane_order.end(), [&](std::size_t a, std::size_t b) { return heights[a] < heights[b]; });
+  std::sort(plane_order.begin(), plane_order.end(),
+            [&](std::size_t a, std::size_t b) { return heights[a] < heights[b]; });
 
   const std::size_t nf = mesh.triangle_count();
   std::vector<double> zmin(nf), zmax(nf);
@@ -152,7 +155,8 @@ std::vector<Section> section_mesh(const Mesh& mesh, std::span<const double> heig
   }
   std::vector<std::uint32_t> by_low(nf);
   std::iota(by_low.begin(), by_low.end(), 0u);
-  std::sort(by_low.begin(), by_low.end(), [&](std::uint32_t a, std::uint32_t b) { return zmin[a] < zmin[b]; });
+  std::sort(by_low.begin(), by_low.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return zmin[a] < zmin[b]; });
 
   std::vector<Section> out(heights.size());
   std::vector<std::uint32_t> active;

@@ -57,7 +57,9 @@ double area_of(const ClipperLib::Paths& paths) {
 
 }  // namespace
 
-double covered_area(const Polygons& polygons) { return area_of(execute(ClipperLib::ctUnion, polygons, nullptr)); }
+double covered_area(const Polygons& polygons) {
+  return area_of(execute(ClipperLib::ctUnion, polygons, nullptr));
+}
 
 double intersection_area(const Polygons& a, const Polygons& b) {
   return area_of(execute(ClipperLib::ctIntersection, a, &b));
@@ -67,7 +69,9 @@ double xor_area(const Polygons& a, const Polygons& b) {
   return std::max(0.0, covered_area(a) + covered_area(b) - 2 * intersection_area(a, b));
 }
 
-Polygons union_of(const Polygons& polygons) { return to_polygons(execute(ClipperLib::ctUnion, polygons, nullptr)); }
+Polygons union_of(const Polygons& polygons) {
+  return to_polygons(execute(ClipperLib::ctUnion, polygons, nullptr));
+}
 Polygons intersection_of(const Polygons& a, const Polygons& b) {
   return to_polygons(execute(ClipperLib::ctIntersection, a, &b));
 }
@@ -110,7 +114,8 @@ Polylines clip_lines(const Polylines& lines, const Polygons& region) {
     if (line.size() < 2) continue;
     ClipperLib::Path path;
     for (const Point2& p : line)
-      path.push_back({static_cast<ClipperLib::cInt>(std::llround(p.x * scale)), static_cast<ClipperLib::cInt>(std::llround(p.y * scale))});
+      path.push_back({static_cast<ClipperLib::cInt>(std::llround(p.x * scale)),
+                      static_cast<ClipperLib::cInt>(std::llround(p.y * scale))});
     clipper.AddPath(path, ClipperLib::ptSubject, false);
   }
   clipper.AddPaths(to_paths(region), ClipperLib::ptClip, true);

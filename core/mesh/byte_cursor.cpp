@@ -7,8 +7,8 @@ namespace salient::core {
 
 void ByteCursor::need(std::uint64_t bytes, std::string_view what) const {
   if (bytes > remaining()) {
-    fail("file is truncated: " + std::string(what) + " needs " + std::to_string(bytes) +
-         " bytes, only " + std::to_string(remaining()) + " left");
+    fail("file is truncated: " + std::string(what) + " needs " + std::to_string(bytes) + " bytes, only " +
+         std::to_string(remaining()) + " left");
   }
 }
 
@@ -17,7 +17,9 @@ void ByteCursor::skip(std::uint64_t bytes, std::string_view what) {
   pos_ += bytes;
 }
 
-void ByteCursor::fail(const std::string& message) const { fail_at(pos_, message); }
+void ByteCursor::fail(const std::string& message) const {
+  fail_at(pos_, message);
+}
 
 void ByteCursor::fail_at(std::size_t offset, const std::string& message) const {
   throw InputError(source_, InputLocation::at_byte(offset), message);

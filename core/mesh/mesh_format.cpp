@@ -58,11 +58,16 @@ bool looks_like_obj(std::string_view s) {
 
 std::string_view format_name(MeshFormat format) {
   switch (format) {
-    case MeshFormat::stl_ascii: return "STL (ASCII)";
-    case MeshFormat::stl_binary: return "STL (binary)";
-    case MeshFormat::obj: return "OBJ";
-    case MeshFormat::ply: return "PLY";
-    case MeshFormat::off: return "OFF";
+    case MeshFormat::stl_ascii:
+      return "STL (ASCII)";
+    case MeshFormat::stl_binary:
+      return "STL (binary)";
+    case MeshFormat::obj:
+      return "OBJ";
+    case MeshFormat::ply:
+      return "PLY";
+    case MeshFormat::off:
+      return "OFF";
   }
   return "unknown";
 }

@@ -14,8 +14,9 @@ LoadedMesh repair_loaded(MeshFile file, const std::string& source, const RepairO
   out.mesh = std::move(file.mesh);
   out.repair = repair_mesh(out.mesh, options);
   if (out.mesh.triangles.empty()) {
-    throw InputError(source, {}, "no usable triangles: all " + std::to_string(out.triangles_read) +
-                                     " faces are degenerate (zero area or repeated vertices)");
+    throw InputError(source, {},
+                     "no usable triangles: all " + std::to_string(out.triangles_read) +
+                         " faces are degenerate (zero area or repeated vertices)");
   }
   return out;
 }

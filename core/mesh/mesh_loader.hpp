@@ -11,10 +11,10 @@
 namespace salient::core {
 
 struct LoadedMesh {
-  Mesh mesh;                // repaired
+  Mesh mesh;  // repaired
   MeshFormat format;
-  std::size_t polygons = 0;          // faces in the file
-  std::size_t triangles_read = 0;    // after triangulation, before repair
+  std::size_t polygons = 0;        // faces in the file
+  std::size_t triangles_read = 0;  // after triangulation, before repair
   std::size_t vertices_read = 0;
   RepairReport repair;
 };

@@ -12,7 +12,8 @@ namespace salient::core {
 namespace detail {
 
 void check_finite(const Vec3& p, const std::string& source, const InputLocation& where) {
-  if (!is_finite(p)) throw InputError(source, where, "vertex coordinate is not a finite number (NaN or infinity)");
+  if (!is_finite(p))
+    throw InputError(source, where, "vertex coordinate is not a finite number (NaN or infinity)");
 }
 
 }  // namespace detail
@@ -24,11 +25,16 @@ MeshFile read_mesh(std::string_view bytes, const std::string& source) {
     throw InputError(source, {}, "unrecognised mesh format (expected STL, OBJ, PLY or OFF)");
   }
   switch (*format) {
-    case MeshFormat::stl_ascii: return detail::read_stl_ascii(bytes, source);
-    case MeshFormat::stl_binary: return detail::read_stl_binary(bytes, source);
-    case MeshFormat::obj: return detail::read_obj(bytes, source);
-    case MeshFormat::off: return detail::read_off(bytes, source);
-    case MeshFormat::ply: return detail::read_ply(bytes, source);
+    case MeshFormat::stl_ascii:
+      return detail::read_stl_ascii(bytes, source);
+    case MeshFormat::stl_binary:
+      return detail::read_stl_binary(bytes, source);
+    case MeshFormat::obj:
+      return detail::read_obj(bytes, source);
+    case MeshFormat::off:
+      return detail::read_off(bytes, source);
+    case MeshFormat::ply:
+      return detail::read_ply(bytes, source);
   }
   throw InputError(source, {}, "unrecognised mesh format");
 }
@@ -40,8 +46,9 @@ MeshFile read_mesh_file(const std::filesystem::path& path) {
   const auto size = std::filesystem::file_size(path, ec);
   if (ec) throw InputError(name, {}, "cannot read: " + ec.message());
   if (size > max_mesh_file_bytes) {
-    throw InputError(name, {}, "file is " + std::to_string(size) + " bytes, more than the " +
-                                   std::to_string(max_mesh_file_bytes) + "-byte limit");
+    throw InputError(name, {},
+                     "file is " + std::to_string(size) + " bytes, more than the " +
+                         std::to_string(max_mesh_file_bytes) + "-byte limit");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(name, {}, "cannot open for reading");

@@ -12,7 +12,7 @@
 namespace salient::core {
 
 struct MeshFile {
-  Mesh mesh;             // as read: unwelded duplicates and degenerate faces still there
+  Mesh mesh;  // as read: unwelded duplicates and degenerate faces still there
   MeshFormat format;
   std::size_t polygons;  // faces in the file before triangulation (strips count their triangles)
 };

@@ -16,16 +16,16 @@ struct RepairOptions {
 };
 
 struct RepairReport {
-  std::size_t vertices_welded = 0;          // merged into another vertex
-  std::size_t unused_vertices_removed = 0;  // referenced by no face
-  std::size_t degenerate_faces_removed = 0; // repeated vertex or zero area
-  std::size_t duplicate_faces_removed = 0;  // same three vertices as an earlier face
-  std::size_t faces_flipped = 0;            // to agree with their neighbours / face outward
-  std::size_t components = 0;               // edge-connected parts
-  std::size_t boundary_edges = 0;           // used by one face: the mesh is open there
-  std::size_t non_manifold_edges = 0;       // used by three or more faces
-  bool orientable = true;                   // false if no consistent orientation exists
-  bool watertight = false;                  // closed and manifold
+  std::size_t vertices_welded = 0;           // merged into another vertex
+  std::size_t unused_vertices_removed = 0;   // referenced by no face
+  std::size_t degenerate_faces_removed = 0;  // repeated vertex or zero area
+  std::size_t duplicate_faces_removed = 0;   // same three vertices as an earlier face
+  std::size_t faces_flipped = 0;             // to agree with their neighbours / face outward
+  std::size_t components = 0;                // edge-connected parts
+  std::size_t boundary_edges = 0;            // used by one face: the mesh is open there
+  std::size_t non_manifold_edges = 0;        // used by three or more faces
+  bool orientable = true;                    // false if no consistent orientation exists
+  bool watertight = false;                   // closed and manifold
 
   // One human-readable line per repair made or problem left, e.g. "welded 12 vertices".
   std::vector<std::string> lines() const;

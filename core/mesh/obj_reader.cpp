@@ -45,7 +45,9 @@ MeshFile read_obj(std::string_view bytes, const std::string& source) {
       if (mesh.positions.size() >= UINT32_MAX) cur.fail("too many vertices");
       mesh.positions.push_back(p);
       if (n >= 6) {  // x y z r g b [a]: the common vertex-colour extension
-        auto c = [](double v) { return static_cast<float>(std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0)); };
+        auto c = [](double v) {
+          return static_cast<float>(std::clamp(std::isfinite(v) ? v : 0.0, 0.0, 1.0));
+        };
         colors.push_back({c(values[3]), c(values[4]), c(values[5])});
         ++colored;
       } else {
@@ -65,15 +67,16 @@ MeshFile read_obj(std::string_view bytes, const std::string& source) {
         } else if (i < 0) {
           resolved = count + i;
           if (resolved < 0)
-            cur.fail("face vertex index " + std::to_string(i) + " is out of range (" +
-                     std::to_string(count) + " vertices defined so far)");
+            cur.fail("face vertex index " + std::to_string(i) + " is out of range (" + std::to_string(count) +
+                     " vertices defined so far)");
         } else {
           cur.fail("face vertex index 0 is invalid (OBJ indices start at 1)");
         }
         if (resolved >= UINT32_MAX) cur.fail("face vertex index too large");
         corners.push_back(static_cast<std::uint32_t>(resolved));
       }
-      if (corners.size() < 3) cur.fail("face needs at least 3 vertices, got " + std::to_string(corners.size()));
+      if (corners.size() < 3)
+        cur.fail("face needs at least 3 vertices, got " + std::to_string(corners.size()));
       ++out.polygons;
       for (std::size_t k = 1; k + 1 < corners.size(); ++k)
         mesh.triangles.push_back({corners[0], corners[k], corners[k + 1]});

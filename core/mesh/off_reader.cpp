@@ -44,7 +44,8 @@ MeshFile read_off(std::string_view bytes, const std::string& source) {
     counts[n++] = cur.parse_int(tok, "the vertex/face/edge counts");
   }
   if (n == 0) {
-    if (!next_content_line(cur, line)) cur.fail("unexpected end of file: expected the vertex and face counts");
+    if (!next_content_line(cur, line))
+      cur.fail("unexpected end of file: expected the vertex and face counts");
     LineTokens count_tokens(line);
     while (n < 3 && count_tokens.next(tok)) counts[n++] = cur.parse_int(tok, "the vertex/face/edge counts");
   }
@@ -54,7 +55,8 @@ MeshFile read_off(std::string_view bytes, const std::string& source) {
   const auto room = static_cast<std::uint64_t>(cur.remaining());
   if (static_cast<std::uint64_t>(nv) > room / min_vertex_bytes ||
       static_cast<std::uint64_t>(nf) > room / min_face_bytes ||
-      static_cast<std::uint64_t>(nv) * min_vertex_bytes + static_cast<std::uint64_t>(nf) * min_face_bytes > room) {
+      static_cast<std::uint64_t>(nv) * min_vertex_bytes + static_cast<std::uint64_t>(nf) * min_face_bytes >
+          room) {
     cur.fail("header declares " + std::to_string(nv) + " vertices and " + std::to_string(nf) +
              " faces, more than the remaining " + std::to_string(room) + " bytes can hold");
   }
@@ -64,7 +66,8 @@ MeshFile read_off(std::string_view bytes, const std::string& source) {
   std::vector<Color> colors;
   for (std::int64_t i = 0; i < nv; ++i) {
     if (!next_content_line(cur, line))
-      cur.fail("unexpected end of file after " + std::to_string(i) + " of " + std::to_string(nv) + " vertices");
+      cur.fail("unexpected end of file after " + std::to_string(i) + " of " + std::to_string(nv) +
+               " vertices");
     LineTokens tokens(line);
     double values[12];
     int k = 0;
@@ -91,13 +94,16 @@ MeshFile read_off(std::string_view bytes, const std::string& source) {
     if (!tokens.next(tok)) cur.fail("empty face line");
     const std::int64_t size = cur.parse_int(tok, "face vertex count");
     if (size < 3) cur.fail("face needs at least 3 vertices, declares " + std::to_string(size));
-    if (static_cast<std::uint64_t>(size) > line.size()) cur.fail("face declares " + std::to_string(size) + " vertices, line is too short");
+    if (static_cast<std::uint64_t>(size) > line.size())
+      cur.fail("face declares " + std::to_string(size) + " vertices, line is too short");
     corners.clear();
     for (std::int64_t k = 0; k < size; ++k) {
-      if (!tokens.next(tok)) cur.fail("face declares " + std::to_string(size) + " vertices, lists " + std::to_string(k));
+      if (!tokens.next(tok))
+        cur.fail("face declares " + std::to_string(size) + " vertices, lists " + std::to_string(k));
       const std::int64_t v = cur.parse_int(tok, "face vertex index");
       if (v < 0 || v >= nv)
-        cur.fail("face vertex index " + std::to_string(v) + " is out of range (" + std::to_string(nv) + " vertices)");
+        cur.fail("face vertex index " + std::to_string(v) + " is out of range (" + std::to_string(nv) +
+                 " vertices)");
       corners.push_back(static_cast<std::uint32_t>(v));
     }
     for (std::size_t k = 1; k + 1 < corners.size(); ++k)

@@ -19,9 +19,12 @@ namespace {
 
 Vec3 rotate_up(const Vec3& p, UpAxis up) {
   switch (up) {
-    case UpAxis::x: return {p.y, p.z, p.x};
-    case UpAxis::y: return {p.x, -p.z, p.y};
-    case UpAxis::z: return p;
+    case UpAxis::x:
+      return {p.y, p.z, p.x};
+    case UpAxis::y:
+      return {p.x, -p.z, p.y};
+    case UpAxis::z:
+      return p;
   }
   return p;
 }
@@ -37,9 +40,12 @@ std::optional<UpAxis> parse_up_axis(std::string_view name) {
 
 std::string_view up_axis_name(UpAxis axis) {
   switch (axis) {
-    case UpAxis::x: return "x";
-    case UpAxis::y: return "y";
-    case UpAxis::z: return "z";
+    case UpAxis::x:
+      return "x";
+    case UpAxis::y:
+      return "y";
+    case UpAxis::z:
+      return "z";
   }
   return "z";
 }

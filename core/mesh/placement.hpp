@@ -24,14 +24,14 @@ struct PlacementOptions {
   // Any direction of the model to turn to +Z (automatic orientation); overrides `up` when set.
   // Need not be unit length; must be finite and non-zero.
   std::optional<Vec3> up_direction;
-  std::optional<double> target_height;  // mm along the new Z; exclusive with scale != 1
-  double scale = 1.0;                   // uniform factor, applied when no target height is set
+  std::optional<double> target_height;        // mm along the new Z; exclusive with scale != 1
+  double scale = 1.0;                         // uniform factor, applied when no target height is set
   double bed_center_x = 0, bed_center_y = 0;  // mm, where the footprint's centre goes
 };
 
 struct Placement {
   double scale = 1;
-  Vec3 translation{};  // added after rotation and scaling
+  Vec3 translation{};    // added after rotation and scaling
   BoundingBox bounds{};  // of the placed mesh
 };
 

@@ -24,10 +24,18 @@ std::optional<PlyScalar> scalar_from_name(std::string_view name) {
 
 std::size_t scalar_size(PlyScalar type) {
   switch (type) {
-    case PlyScalar::i8: case PlyScalar::u8: return 1;
-    case PlyScalar::i16: case PlyScalar::u16: return 2;
-    case PlyScalar::i32: case PlyScalar::u32: case PlyScalar::f32: return 4;
-    case PlyScalar::f64: return 8;
+    case PlyScalar::i8:
+    case PlyScalar::u8:
+      return 1;
+    case PlyScalar::i16:
+    case PlyScalar::u16:
+      return 2;
+    case PlyScalar::i32:
+    case PlyScalar::u32:
+    case PlyScalar::f32:
+      return 4;
+    case PlyScalar::f64:
+      return 8;
   }
   return 1;
 }
@@ -41,8 +49,10 @@ int PlyElement::find(std::string_view property) const {
 std::uint64_t PlyElement::min_bytes(PlyEncoding encoding) const {
   std::uint64_t total = 0;
   for (const PlyProperty& p : properties) {
-    if (encoding == PlyEncoding::ascii) total += 2;  // a digit and a separator
-    else total += scalar_size(p.is_list ? p.count_type : p.type);
+    if (encoding == PlyEncoding::ascii)
+      total += 2;  // a digit and a separator
+    else
+      total += scalar_size(p.is_list ? p.count_type : p.type);
   }
   return total;
 }
@@ -64,10 +74,14 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& source) {
     std::string_view a, b, c, d;
     if (kw == "format") {
       if (!tokens.next(a) || !tokens.next(b)) cur.fail("'format' needs an encoding and a version");
-      if (a == "ascii") header.encoding = PlyEncoding::ascii;
-      else if (a == "binary_little_endian") header.encoding = PlyEncoding::binary_little_endian;
-      else if (a == "binary_big_endian") header.encoding = PlyEncoding::binary_big_endian;
-      else cur.fail("unknown PLY encoding '" + std::string(a) + "'");
+      if (a == "ascii")
+        header.encoding = PlyEncoding::ascii;
+      else if (a == "binary_little_endian")
+        header.encoding = PlyEncoding::binary_little_endian;
+      else if (a == "binary_big_endian")
+        header.encoding = PlyEncoding::binary_big_endian;
+      else
+        cur.fail("unknown PLY encoding '" + std::string(a) + "'");
       if (b != "1.0") cur.fail("unsupported PLY version '" + std::string(b) + "'");
       have_format = true;
     } else if (kw == "element") {
@@ -80,11 +94,13 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& source) {
       PlyProperty prop;
       if (!tokens.next(a)) cur.fail("'property' needs a type and a name");
       if (a == "list") {
-        if (!tokens.next(b) || !tokens.next(c) || !tokens.next(d)) cur.fail("'property list' needs two types and a name");
+        if (!tokens.next(b) || !tokens.next(c) || !tokens.next(d))
+          cur.fail("'property list' needs two types and a name");
         const auto count_type = scalar_from_name(b);
         const auto item_type = scalar_from_name(c);
         if (!count_type || !item_type) cur.fail("unknown property type in 'property list'");
-        if (*count_type == PlyScalar::f32 || *count_type == PlyScalar::f64) cur.fail("list count type must be an integer type");
+        if (*count_type == PlyScalar::f32 || *count_type == PlyScalar::f64)
+          cur.fail("list count type must be an integer type");
         prop = {std::string(d), *item_type, true, *count_type};
       } else {
         const auto type = scalar_from_name(a);
@@ -105,11 +121,14 @@ PlyHeader parse_ply_header(std::string_view bytes, const std::string& source) {
   for (const PlyElement& e : header.elements) {
     const std::uint64_t each = e.min_bytes(header.encoding);
     if (each > 0 && e.count > room / each) {
-      throw InputError(source, InputLocation::at_line(e.line), "element '" + e.name + "' declares " + std::to_string(e.count) + " entries, more than the " +
-               std::to_string(bytes.size() - header.body_offset) + "-byte body can hold");
+      throw InputError(source, InputLocation::at_line(e.line),
+                       "element '" + e.name + "' declares " + std::to_string(e.count) +
+                           " entries, more than the " + std::to_string(bytes.size() - header.body_offset) +
+                           "-byte body can hold");
     }
     if (each == 0 && e.count > 0)
-      throw InputError(source, InputLocation::at_line(e.line), "element '" + e.name + "' has entries but no properties");
+      throw InputError(source, InputLocation::at_line(e.line),
+                       "element '" + e.name + "' has entries but no properties");
     room -= e.count * each;
   }
   return header;

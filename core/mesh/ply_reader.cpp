@@ -24,14 +24,22 @@ class PlyValues {
     if (encoding_ == PlyEncoding::ascii) return text_.parse_double(text_.expect_token(what), what);
     const Endian e = encoding_ == PlyEncoding::binary_big_endian ? Endian::big : Endian::little;
     switch (type) {
-      case PlyScalar::i8: return bin_.read<std::int8_t>(e, what);
-      case PlyScalar::u8: return bin_.read<std::uint8_t>(e, what);
-      case PlyScalar::i16: return bin_.read<std::int16_t>(e, what);
-      case PlyScalar::u16: return bin_.read<std::uint16_t>(e, what);
-      case PlyScalar::i32: return bin_.read<std::int32_t>(e, what);
-      case PlyScalar::u32: return bin_.read<std::uint32_t>(e, what);
-      case PlyScalar::f32: return bin_.read<float>(e, what);
-      case PlyScalar::f64: return bin_.read<double>(e, what);
+      case PlyScalar::i8:
+        return bin_.read<std::int8_t>(e, what);
+      case PlyScalar::u8:
+        return bin_.read<std::uint8_t>(e, what);
+      case PlyScalar::i16:
+        return bin_.read<std::int16_t>(e, what);
+      case PlyScalar::u16:
+        return bin_.read<std::uint16_t>(e, what);
+      case PlyScalar::i32:
+        return bin_.read<std::int32_t>(e, what);
+      case PlyScalar::u32:
+        return bin_.read<std::uint32_t>(e, what);
+      case PlyScalar::f32:
+        return bin_.read<float>(e, what);
+      case PlyScalar::f64:
+        return bin_.read<double>(e, what);
     }
     return 0;
   }
@@ -39,7 +47,8 @@ class PlyValues {
   // An integer value (list counts, indices): non-integers are an error.
   std::int64_t read_int(PlyScalar type, std::string_view what) {
     const double v = read(type, what);
-    if (!std::isfinite(v) || v != std::floor(v) || std::fabs(v) > 9.0e15) fail(std::string(what) + " is not an integer");
+    if (!std::isfinite(v) || v != std::floor(v) || std::fabs(v) > 9.0e15)
+      fail(std::string(what) + " is not an integer");
     return static_cast<std::int64_t>(v);
   }
 
@@ -58,7 +67,8 @@ class PlyValues {
     const std::uint64_t room = remaining() + (encoding_ == PlyEncoding::ascii ? 1 : 0);
     if (n < 0) fail(std::string(what) + " has a negative length");
     if (static_cast<std::uint64_t>(n) > room / each)
-      fail(std::string(what) + " declares " + std::to_string(n) + " items, more than the rest of the file holds");
+      fail(std::string(what) + " declares " + std::to_string(n) +
+           " items, more than the rest of the file holds");
   }
 
   InputLocation where() const {
@@ -71,7 +81,9 @@ class PlyValues {
   }
 
  private:
-  std::size_t remaining() const { return encoding_ == PlyEncoding::ascii ? text_.remaining() : bin_.remaining(); }
+  std::size_t remaining() const {
+    return encoding_ == PlyEncoding::ascii ? text_.remaining() : bin_.remaining();
+  }
 
   PlyEncoding encoding_;
   ByteCursor bin_;
@@ -80,9 +92,14 @@ class PlyValues {
 
 double color_scale(PlyScalar type) {
   switch (type) {
-    case PlyScalar::u8: case PlyScalar::i8: return 1.0 / 255.0;
-    case PlyScalar::u16: case PlyScalar::i16: return 1.0 / 65535.0;
-    default: return 1.0;
+    case PlyScalar::u8:
+    case PlyScalar::i8:
+      return 1.0 / 255.0;
+    case PlyScalar::u16:
+    case PlyScalar::i16:
+      return 1.0 / 65535.0;
+    default:
+      return 1.0;
   }
 }
 
@@ -91,8 +108,8 @@ struct VertexSlots {
 };
 
 VertexSlots find_vertex_slots(const PlyElement& e) {
-  VertexSlots s{e.find("x"), e.find("y"), e.find("z"), e.find("red"), e.find("green"), e.find("blue"),
-                e.find("quality")};
+  VertexSlots s{e.find("x"),     e.find("y"),    e.find("z"),      e.find("red"),
+                e.find("green"), e.find("blue"), e.find("quality")};
   if (s.red < 0) s.red = e.find("diffuse_red");
   if (s.green < 0) s.green = e.find("diffuse_green");
   if (s.blue < 0) s.blue = e.find("diffuse_blue");
@@ -149,7 +166,8 @@ void read_index_list(PlyValues& in, const PlyProperty& p, std::uint64_t vertex_c
   for (std::int64_t i = 0; i < n; ++i) {
     const std::int64_t v = in.read_int(p.type, "a vertex index");
     if ((v < 0 && !(strip && v == -1)) || (v >= 0 && static_cast<std::uint64_t>(v) >= vertex_count))
-      in.fail("vertex index " + std::to_string(v) + " is out of range (" + std::to_string(vertex_count) + " vertices)");
+      in.fail("vertex index " + std::to_string(v) + " is out of range (" + std::to_string(vertex_count) +
+              " vertices)");
     out.push_back(v);
   }
 }

@@ -21,7 +21,9 @@ void put(std::string& out, T v) {
   out.append(raw, sizeof(T));
 }
 
-std::uint8_t byte(float v) { return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255)); }
+std::uint8_t byte(float v) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(v, 0.0f, 1.0f) * 255));
+}
 
 }  // namespace
 
@@ -29,10 +31,12 @@ std::string ply_bytes(const Mesh& mesh, std::span<const float> quality, std::spa
   const bool q = quality.size() == mesh.vertex_count() && !quality.empty();
   const bool c = colors.size() == mesh.vertex_count() && !colors.empty();
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment written by salient\nelement vertex " +
-                    std::to_string(mesh.vertex_count()) + "\nproperty float x\nproperty float y\nproperty float z\n";
+                    std::to_string(mesh.vertex_count()) +
+                    "\nproperty float x\nproperty float y\nproperty float z\n";
   if (q) out += "property float quality\n";
   if (c) out += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-  out += "element face " + std::to_string(mesh.triangle_count()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+  out += "element face " + std::to_string(mesh.triangle_count()) +
+         "\nproperty list uchar int vertex_indices\nend_header\n";
   for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
     const Vec3& p = mesh.positions[i];
     put(out, static_cast<float>(p.x));

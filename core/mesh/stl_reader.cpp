@@ -98,7 +98,8 @@ MeshFile read_stl_ascii(std::string_view bytes, const std::string& source) {
       cur.skip_rest_of_line();
       continue;
     }
-    if (tok != "facet") cur.fail("expected 'facet' or 'endsolid', got '" + std::string(tok.substr(0, 40)) + "'");
+    if (tok != "facet")
+      cur.fail("expected 'facet' or 'endsolid', got '" + std::string(tok.substr(0, 40)) + "'");
     if (!in_solid) cur.fail("'facet' outside a 'solid' block");
     if (cur.expect_token("'normal'") != "normal") cur.fail("expected 'normal' after 'facet'");
     for (int k = 0; k < 3; ++k) cur.parse_double(cur.expect_token("a normal component"), "the facet normal");
@@ -108,7 +109,8 @@ MeshFile read_stl_ascii(std::string_view bytes, const std::string& source) {
     while (true) {
       tok = cur.expect_token("'vertex' or 'endloop'");
       if (tok == "endloop") break;
-      if (tok != "vertex") cur.fail("expected 'vertex' or 'endloop', got '" + std::string(tok.substr(0, 40)) + "'");
+      if (tok != "vertex")
+        cur.fail("expected 'vertex' or 'endloop', got '" + std::string(tok.substr(0, 40)) + "'");
       Vec3 p;
       p.x = cur.parse_double(cur.expect_token("x"), "vertex x");
       p.y = cur.parse_double(cur.expect_token("y"), "vertex y");

@@ -6,7 +6,9 @@
 namespace salient::core {
 namespace {
 
-bool is_space(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v'; }
+bool is_space(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\f' || c == '\v';
+}
 
 std::string quoted(std::string_view token) {
   constexpr std::size_t max_shown = 40;
@@ -82,13 +84,15 @@ void TextCursor::fail(const std::string& message) const {
 
 double TextCursor::parse_double(std::string_view token, std::string_view what) const {
   double value = 0;
-  if (!parse_number(token, value)) fail("expected a number for " + std::string(what) + ", got " + quoted(token));
+  if (!parse_number(token, value))
+    fail("expected a number for " + std::string(what) + ", got " + quoted(token));
   return value;
 }
 
 std::int64_t TextCursor::parse_int(std::string_view token, std::string_view what) const {
   std::int64_t value = 0;
-  if (!parse_number(token, value)) fail("expected an integer for " + std::string(what) + ", got " + quoted(token));
+  if (!parse_number(token, value))
+    fail("expected an integer for " + std::string(what) + ", got " + quoted(token));
   return value;
 }
 

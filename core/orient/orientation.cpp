@@ -20,7 +20,8 @@ std::vector<Facet> facets(const Mesh& mesh) {
   std::vector<Facet> out;
   out.reserve(mesh.triangle_count());
   for (const Triangle& t : mesh.triangles) {
-    const Vec3 c = cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]);
+    const Vec3 c =
+        cross(mesh.positions[t[1]] - mesh.positions[t[0]], mesh.positions[t[2]] - mesh.positions[t[0]]);
     const double twice = norm(c);
     if (twice > 0 && std::isfinite(twice)) out.push_back({c / twice, twice / 2});
   }
@@ -45,7 +46,9 @@ std::array<Vec3, 3> principal_axes(const std::vector<Facet>& fs, Select&& select
   return out;
 }
 
-Vec3 unit(const Vec3& v) { return v / norm(v); }
+Vec3 unit(const Vec3& v) {
+  return v / norm(v);
+}
 
 }  // namespace
 
@@ -89,13 +92,17 @@ std::array<Vec3, 3> candidate_directions(const Mesh& mesh) {
     if (!moved) break;
     for (int k = 0; k < 3; ++k)
       if (weight[static_cast<std::size_t>(k)] > 0)
-        centres[static_cast<std::size_t>(k)] = principal_axes(fs, [&](std::size_t i) { return cluster[i] == k; })[0];
+        centres[static_cast<std::size_t>(k)] =
+            principal_axes(fs, [&](std::size_t i) { return cluster[i] == k; })[0];
   }
   // Heaviest first, then made orthonormal by Gram–Schmidt in that order.
   std::array<int, 3> order{0, 1, 2};
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return weight[static_cast<std::size_t>(a)] > weight[static_cast<std::size_t>(b)]; });
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    return weight[static_cast<std::size_t>(a)] > weight[static_cast<std::size_t>(b)];
+  });
   const Vec3 a = unit(centres[static_cast<std::size_t>(order[0])]);
-  Vec3 b = centres[static_cast<std::size_t>(order[1])] - a * dot(centres[static_cast<std::size_t>(order[1])], a);
+  Vec3 b =
+      centres[static_cast<std::size_t>(order[1])] - a * dot(centres[static_cast<std::size_t>(order[1])], a);
   if (norm(b) < 1e-9) {  // degenerate (all normals in one cluster): any perpendicular
     b = std::abs(a.x) < 0.9 ? cross(a, Vec3{1, 0, 0}) : cross(a, Vec3{0, 1, 0});
   }
@@ -110,7 +117,8 @@ double bed_contact_area(const Mesh& mesh, const Vec3& up, double tolerance) {
   double area = 0;
   for (const Triangle& t : mesh.triangles) {
     const Vec3 &p0 = mesh.positions[t[0]], &p1 = mesh.positions[t[1]], &p2 = mesh.positions[t[2]];
-    if (dot(p0, u) - lowest > tolerance || dot(p1, u) - lowest > tolerance || dot(p2, u) - lowest > tolerance) continue;
+    if (dot(p0, u) - lowest > tolerance || dot(p1, u) - lowest > tolerance || dot(p2, u) - lowest > tolerance)
+      continue;
     const Vec3 c = cross(p1 - p0, p2 - p0);
     const double twice = norm(c);
     if (twice > 0 && dot(c, u) / twice < -0.985) area += twice / 2;  // facing down within 10°

@@ -33,12 +33,12 @@ Vec3 pick_up_sign(const Mesh& mesh, const Vec3& d);
 double volumetric_score(const Mesh& placed, std::span<const double> boundaries);
 
 struct OrientationScore {
-  Vec3 up;                 // the model's direction that goes to +Z
-  double minutes = 0;      // estimated printing time, support included
+  Vec3 up;             // the model's direction that goes to +Z
+  double minutes = 0;  // estimated printing time, support included
   int layers = 0;
-  double contact_area = 0; // mm², on the bed
+  double contact_area = 0;                                       // mm², on the bed
   double time_score = 0, volume_score = 0, stability_score = 0;  // TimeS, VolS, StaS
-  double score = 0;                                               // OS, eq. 11
+  double score = 0;                                              // OS, eq. 11
 };
 
 // Fills time_score (eq. 12: (MAX_T − T_i) / (MAX_T − MIN_T), 1 for all when the times are equal),

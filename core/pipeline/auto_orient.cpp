@@ -7,7 +7,8 @@
 
 namespace salient::core {
 
-OrientationReport choose_orientation(const SliceSettings& settings, const PrinterProfile& printer, const RunContext& run) {
+OrientationReport choose_orientation(const SliceSettings& settings, const PrinterProfile& printer,
+                                     const RunContext& run) {
   run.report("orient", 0);
   MeshOptions raw;  // the file's own frame (up z, scale 1): candidate directions are expressed in it
   raw.model = settings.plan.mesh.model;
@@ -39,7 +40,8 @@ OrientationReport choose_orientation(const SliceSettings& settings, const Printe
     s.support = true;  // time with support: an orientation that needs more of it pays for it
     s.artefacts = false;
     const RunContext inner{run.cancel, [&](std::string_view, double f) {
-                             run.report("orient", (static_cast<double>(i) + std::clamp(f, 0.0, 1.0) * 0.9) / 3.0);
+                             run.report("orient",
+                                        (static_cast<double>(i) + std::clamp(f, 0.0, 1.0) * 0.9) / 3.0);
                            }};
     const SliceResult r = slice_model(s, printer, inner);
     c.minutes = r.print_seconds / 60;

@@ -13,6 +13,7 @@ namespace salient::core {
 // `settings.plan.mesh.up` is ignored. With a target height the candidates are compared at one
 // scale: the one that gives the tallest candidate that height (OrientationReport::scale, which
 // the caller keeps for the print). Throws InputError, Cancelled.
-OrientationReport choose_orientation(const SliceSettings& settings, const PrinterProfile& printer, const RunContext& run);
+OrientationReport choose_orientation(const SliceSettings& settings, const PrinterProfile& printer,
+                                     const RunContext& run);
 
 }  // namespace salient::core

@@ -10,8 +10,9 @@ PlacedModel load_placed(const MeshOptions& options, const std::string& values_fi
   const auto up = parse_up_axis(options.up);
   if (!up) out.up_direction = parse_up_direction(options.up);
   if (!up && !out.up_direction) {
-    std::string message = options.up == "auto" ? "'auto' is only for slice, plan and jobs (it slices three orientations)"
-                                               : "expected x, y, z, auto or a direction like 0,-1,0.2, got '";
+    std::string message = options.up == "auto"
+                              ? "'auto' is only for slice, plan and jobs (it slices three orientations)"
+                              : "expected x, y, z, auto or a direction like 0,-1,0.2, got '";
     if (options.up != "auto") message.append(options.up).append("'");
     throw InputError("--up", {}, message);
   }

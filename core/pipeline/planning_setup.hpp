@@ -25,8 +25,8 @@ struct PlanOptions {
   std::string saliency = "uniform";
   std::string saliency_file;
   std::uint64_t seed = 1;
-  bool segment = false;  // SegOpt (paper §5): cut by a vertical plane where that saves time
-  int segment_depth = 1;  // levels of cutting (2+: each part is cut again where that saves time)
+  bool segment = false;    // SegOpt (paper §5): cut by a vertical plane where that saves time
+  int segment_depth = 1;   // levels of cutting (2+: each part is cut again where that saves time)
   int segment_planes = 1;  // planes timed, best seam cost first (the paper times only the best)
 };
 

@@ -17,7 +17,8 @@ std::vector<double> heights_of(const ZProfile& whole, const PlanRegion& region) 
 
 }  // namespace
 
-std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& whole, const std::vector<PlanRegion>& regions,
+std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& whole,
+                                             const std::vector<PlanRegion>& regions,
                                              const RegionSliceSettings& s, const RunContext& run) {
   std::vector<LayerToolpaths> layers;
   if (regions.size() == 1 && regions[0].side < 0 && regions[0].first_cell == 0) {
@@ -41,16 +42,21 @@ std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& w
 }
 
 double region_print_seconds(const Mesh& mesh, const ZProfile& whole, const std::vector<PlanRegion>& regions,
-                            const RegionSliceSettings& s, const PrinterProfile& printer, const RunContext& run) {
+                            const RegionSliceSettings& s, const PrinterProfile& printer,
+                            const RunContext& run) {
   return write_gcode(region_toolpaths(mesh, whole, regions, s, run), printer, {}).seconds;
 }
 
-SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner, const RegionSliceSettings& settings,
-                           const PrinterProfile& printer, const RunContext& run, SegOptOptions options) {
+SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner,
+                           const RegionSliceSettings& settings, const PrinterProfile& printer,
+                           const RunContext& run, SegOptOptions options) {
   if (planner.name() == "ha13")
-    throw InputError("--planner", {}, "ha13 cuts the whole model's sections, so it cannot plan the parts of --segment");
+    throw InputError("--planner", {},
+                     "ha13 cuts the whole model's sections, so it cannot plan the parts of --segment");
   const Mesh& mesh = setup.model.loaded.mesh;
-  const SegOptInput input{mesh, setup.saliency, *setup.profile, setup.objective->metric(), planner, setup.rho, setup.seed, nullptr, {}};
+  const SegOptInput input{mesh,    setup.saliency, *setup.profile, setup.objective->metric(),
+                          planner, setup.rho,      setup.seed,     nullptr,
+                          {}};
   // The time estimates slice quietly: their toolpath progress is not the job's.
   RunContext quiet{run.cancel, {}};
   const RegionTimer timer = [&](const std::vector<PlanRegion>& regions) {
@@ -64,7 +70,8 @@ std::vector<double> printed_heights(const ZProfile& whole, const std::vector<Pla
   for (const PlanRegion& r : regions)
     for (std::size_t i = 1; i < r.plan.boundaries.size(); ++i) z.push_back(whole.z(r.plan.boundaries[i]));
   std::sort(z.begin(), z.end());
-  z.erase(std::unique(z.begin(), z.end(), [](double a, double b) { return std::fabs(a - b) < 1e-6; }), z.end());
+  z.erase(std::unique(z.begin(), z.end(), [](double a, double b) { return std::fabs(a - b) < 1e-6; }),
+          z.end());
   return z;
 }
 

@@ -20,17 +20,20 @@ struct RegionSliceSettings {
 
 // One region covering the whole model: the ordinary slice. Otherwise each region's layers cut to
 // its side, merged by print height, one skirt, then support.
-std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& whole, const std::vector<PlanRegion>& regions,
+std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& whole,
+                                             const std::vector<PlanRegion>& regions,
                                              const RegionSliceSettings& settings, const RunContext& run = {});
 
 // Estimated seconds to print `regions` on `printer` (toolpaths and G-code, as slice would).
 double region_print_seconds(const Mesh& mesh, const ZProfile& whole, const std::vector<PlanRegion>& regions,
-                            const RegionSliceSettings& settings, const PrinterProfile& printer, const RunContext& run = {});
+                            const RegionSliceSettings& settings, const PrinterProfile& printer,
+                            const RunContext& run = {});
 
 // SegOpt on a prepared model with `planner` at the setup's ρ, timed on `printer`. Throws
 // InputError for a planner that needs more than the objective (ha13 cuts the whole mesh).
-SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner, const RegionSliceSettings& settings,
-                           const PrinterProfile& printer, const RunContext& run = {}, SegOptOptions options = {});
+SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner,
+                           const RegionSliceSettings& settings, const PrinterProfile& printer,
+                           const RunContext& run = {}, SegOptOptions options = {});
 
 // The printed heights (layer tops, mm) of a multi-region plan, merged.
 std::vector<double> printed_heights(const ZProfile& whole, const std::vector<PlanRegion>& regions);

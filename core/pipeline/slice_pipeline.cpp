@@ -10,8 +10,8 @@
 #include "core/pipeline/auto_orient.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
 #include "core/render/saliency_preview.hpp"
-#include "core/slicing/plan_svg.hpp"
 #include "core/segment/regions_svg.hpp"
+#include "core/slicing/plan_svg.hpp"
 
 namespace salient::core {
 
@@ -75,8 +75,9 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   GcodeSettings gs;
   gs.summary = {"model = " + out.model_name,
                 "planner = " + plan.planner + ", metric " + plan.metric + ", saliency " + plan.saliency,
-                "plan = " + std::to_string(out.layers) + " layers (finest " + std::to_string(out.finest_layers) + "), E " +
-                    std::to_string(out.error) + ", RSMD " + std::to_string(out.rsmd)};
+                "plan = " + std::to_string(out.layers) + " layers (finest " +
+                    std::to_string(out.finest_layers) + "), E " + std::to_string(out.error) + ", RSMD " +
+                    std::to_string(out.rsmd)};
   if (out.segmentation) gs.summary.push_back("segmentation = " + out.segmentation->note);
   GcodeResult g = write_gcode(toolpaths, printer, gs);
   out.gcode = std::move(g.text);
@@ -86,7 +87,8 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   if (s.artefacts) {
     const Mesh& mesh = setup->model.loaded.mesh;
     const std::string title = out.model_name + " — " + plan.planner + ", " + plan.metric;
-    out.plot_svg = regions.size() == 1 ? plan_svg(*setup->objective, regions[0].plan, title) : regions_svg(p, regions, title);
+    out.plot_svg = regions.size() == 1 ? plan_svg(*setup->objective, regions[0].plan, title)
+                                       : regions_svg(p, regions, title);
     out.model_3mf = three_mf(mesh, boundaries, out.model_name);
     std::vector<Color> colors(setup->saliency.size());
     std::transform(setup->saliency.begin(), setup->saliency.end(), colors.begin(), heat_color);

@@ -20,9 +20,12 @@ std::optional<GcodeFlavor> parse_gcode_flavor(std::string_view name) {
 
 std::string_view gcode_flavor_name(GcodeFlavor flavor) {
   switch (flavor) {
-    case GcodeFlavor::marlin: return "marlin";
-    case GcodeFlavor::reprap: return "reprap";
-    case GcodeFlavor::sailfish: return "sailfish";
+    case GcodeFlavor::marlin:
+      return "marlin";
+    case GcodeFlavor::reprap:
+      return "reprap";
+    case GcodeFlavor::sailfish:
+      return "sailfish";
   }
   return "marlin";
 }
@@ -36,7 +39,8 @@ PrinterProfile parse_printer_profile(std::string_view text, const std::string& s
   std::string flavor = "marlin";
   top.text("flavor", flavor);
   const auto parsed_flavor = parse_gcode_flavor(flavor);
-  if (!parsed_flavor) throw InputError(source, {}, "'flavor' must be marlin, reprap or sailfish, got '" + flavor + "'");
+  if (!parsed_flavor)
+    throw InputError(source, {}, "'flavor' must be marlin, reprap or sailfish, got '" + flavor + "'");
   p.flavor = *parsed_flavor;
   std::string origin = "corner";
   read_section(top, "bed", source, [&](TableReader& r) {
@@ -59,7 +63,8 @@ PrinterProfile parse_printer_profile(std::string_view text, const std::string& s
     r.number("retract_length", p.retract_length, false);
     r.number("retract_speed", p.retract_speed);
   });
-  read_section(top, "bed_heater", source, [&](TableReader& r) { r.number("temperature", p.bed_temperature, false); });
+  read_section(top, "bed_heater", source,
+               [&](TableReader& r) { r.number("temperature", p.bed_temperature, false); });
   read_section(top, "motion", source, [&](TableReader& r) {
     r.number("print_speed", p.print_speed);
     r.number("first_layer_speed", p.first_layer_speed);
@@ -73,7 +78,8 @@ PrinterProfile parse_printer_profile(std::string_view text, const std::string& s
   });
   top.reject_unknown();
   if (p.min_layer > p.max_layer)
-    throw InputError(source, {}, "'layers.min' (" + std::to_string(p.min_layer) + ") is greater than 'layers.max'");
+    throw InputError(source, {},
+                     "'layers.min' (" + std::to_string(p.min_layer) + ") is greater than 'layers.max'");
   if (p.max_layer > p.nozzle_diameter)
     throw InputError(source, {}, "'layers.max' is thicker than the nozzle ('extruder.nozzle_diameter')");
   if (p.name.empty()) p.name = p.id;

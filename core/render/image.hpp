@@ -11,7 +11,8 @@ struct Image {
   int width = 0, height = 0;
   std::vector<std::uint8_t> rgb;  // row-major, 3 bytes a pixel
 
-  Image(int w, int h, std::uint8_t fill = 255) : width(w), height(h), rgb(static_cast<std::size_t>(w) * h * 3, fill) {}
+  Image(int w, int h, std::uint8_t fill = 255)
+      : width(w), height(h), rgb(static_cast<std::size_t>(w) * h * 3, fill) {}
   std::uint8_t* at(int x, int y) { return rgb.data() + (static_cast<std::size_t>(y) * width + x) * 3; }
 };
 

@@ -24,7 +24,8 @@ struct View {
   double u_sign;
 };
 
-void draw_view(const Mesh& mesh, std::span<const float> values, Image& img, int x0, int size, const View& view) {
+void draw_view(const Mesh& mesh, std::span<const float> values, Image& img, int x0, int size,
+               const View& view) {
   const BoundingBox box = bounding_box(mesh);
   const double su = box.size()[view.u], sv = box.size()[view.v];
   const double scale = 0.9 * size / std::max({su, sv, 1e-12});
@@ -60,7 +61,8 @@ void draw_view(const Mesh& mesh, std::span<const float> values, Image& img, int 
         double& z = zbuf[static_cast<std::size_t>(y) * size + (x - x0)];
         if (d <= z) continue;
         z = d;
-        const float value = static_cast<float>(w0 * values[tri[0]] + w1 * values[tri[1]] + w2 * values[tri[2]]);
+        const float value =
+            static_cast<float>(w0 * values[tri[0]] + w1 * values[tri[1]] + w2 * values[tri[2]]);
         const Color c = heat_color(value);
         std::uint8_t* pixel = img.at(x, y);
         pixel[0] = static_cast<std::uint8_t>(255 * c.r * shade);
@@ -74,9 +76,9 @@ void draw_view(const Mesh& mesh, std::span<const float> values, Image& img, int 
 
 Image render_preview(const Mesh& mesh, std::span<const float> values, int view_size) {
   Image img(3 * view_size, view_size);
-  draw_view(mesh, values, img, 0, view_size, {0, 2, 1, -1, 1});              // front: looking along +y
-  draw_view(mesh, values, img, view_size, view_size, {1, 2, 0, 1, 1});       // side: from +x
-  draw_view(mesh, values, img, 2 * view_size, view_size, {0, 1, 2, 1, 1});   // top: from +z
+  draw_view(mesh, values, img, 0, view_size, {0, 2, 1, -1, 1});             // front: looking along +y
+  draw_view(mesh, values, img, view_size, view_size, {1, 2, 0, 1, 1});      // side: from +x
+  draw_view(mesh, values, img, 2 * view_size, view_size, {0, 1, 2, 1, 1});  // top: from +z
   return img;
 }
 

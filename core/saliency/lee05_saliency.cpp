@@ -18,7 +18,7 @@
 namespace salient::core {
 namespace {
 
-constexpr std::array<double, 8> sigmas = {2, 3, 4, 5, 6, 8, 10, 12};  // in ε
+constexpr std::array<double, 8> sigmas = {2, 3, 4, 5, 6, 8, 10, 12};                              // in ε
 constexpr std::array<std::array<int, 2>, 5> levels = {{{0, 2}, {1, 4}, {2, 5}, {3, 6}, {4, 7}}};  // σ, 2σ
 
 std::vector<double> normalised(std::vector<double> v) {
@@ -71,21 +71,23 @@ std::vector<float> lee05_saliency(const Mesh& mesh, const RunContext& run) {
     run.check();
     run.report("lee05", static_cast<double>(first) / n);
     const std::size_t last = std::min(n, first + block);
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-        std::array<double, 8> num{}, den{};
-        grid.for_each_within(mesh.positions[i], radius, [&](std::uint32_t j, double d2) {
-          for (std::size_t s = 0; s < sigmas.size(); ++s) {
-            const double sigma = sigmas[s] * eps;
-            if (d2 > 4 * sigma * sigma) continue;
-            const double w = std::exp(-d2 / (2 * sigma * sigma));
-            num[s] += w * curvature[j];
-            den[s] += w;
-          }
-        });
-        for (std::size_t s = 0; s < sigmas.size(); ++s) filtered[i][s] = den[s] > 0 ? num[s] / den[s] : 0;
-      }
-    });
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(first, last),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                          std::array<double, 8> num{}, den{};
+                          grid.for_each_within(mesh.positions[i], radius, [&](std::uint32_t j, double d2) {
+                            for (std::size_t s = 0; s < sigmas.size(); ++s) {
+                              const double sigma = sigmas[s] * eps;
+                              if (d2 > 4 * sigma * sigma) continue;
+                              const double w = std::exp(-d2 / (2 * sigma * sigma));
+                              num[s] += w * curvature[j];
+                              den[s] += w;
+                            }
+                          });
+                          for (std::size_t s = 0; s < sigmas.size(); ++s)
+                            filtered[i][s] = den[s] > 0 ? num[s] / den[s] : 0;
+                        }
+                      });
   }
   std::vector<double> total(n, 0);
   for (const auto& [a, b] : levels) {

@@ -46,11 +46,13 @@ Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices) {
   PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
 
   // Each collapse removes one vertex and three edges; stop at the edge count of the target.
-  const std::size_t remove = sm.number_of_vertices() > target_vertices ? sm.number_of_vertices() - target_vertices : 0;
+  const std::size_t remove =
+      sm.number_of_vertices() > target_vertices ? sm.number_of_vertices() - target_vertices : 0;
   const std::size_t target_edges = sm.number_of_edges() > 3 * remove ? sm.number_of_edges() - 3 * remove : 3;
   SMS::Count_stop_predicate<SurfaceMesh> stop(target_edges);
   SMS::GarlandHeckbert_plane_policies<SurfaceMesh, Kernel> policies(sm);
-  SMS::edge_collapse(sm, stop, CGAL::parameters::get_cost(policies.get_cost()).get_placement(policies.get_placement()));
+  SMS::edge_collapse(sm, stop,
+                     CGAL::parameters::get_cost(policies.get_cost()).get_placement(policies.get_placement()));
   sm.collect_garbage();
 
   Mesh out;

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <fstream>
 #include <sstream>
 
@@ -35,10 +34,14 @@ std::optional<SaliencyMethod> parse_saliency_method(std::string_view name) {
 
 std::string_view saliency_method_name(SaliencyMethod method) {
   switch (method) {
-    case SaliencyMethod::spectral: return "spectral";
-    case SaliencyMethod::lee05: return "lee05";
-    case SaliencyMethod::uniform: return "uniform";
-    case SaliencyMethod::painted: return "painted";
+    case SaliencyMethod::spectral:
+      return "spectral";
+    case SaliencyMethod::lee05:
+      return "lee05";
+    case SaliencyMethod::uniform:
+      return "uniform";
+    case SaliencyMethod::painted:
+      return "painted";
   }
   return "uniform";
 }
@@ -47,9 +50,12 @@ std::vector<float> compute_saliency(const Mesh& mesh, SaliencyMethod method, con
                                     const RunContext& run) {
   run.check();
   switch (method) {
-    case SaliencyMethod::spectral: return spectral_saliency(mesh, {}, run);
-    case SaliencyMethod::lee05: return lee05_saliency(mesh, run);
-    case SaliencyMethod::uniform: return std::vector<float>(mesh.vertex_count(), 1.0f);
+    case SaliencyMethod::spectral:
+      return spectral_saliency(mesh, {}, run);
+    case SaliencyMethod::lee05:
+      return lee05_saliency(mesh, run);
+    case SaliencyMethod::uniform:
+      return std::vector<float>(mesh.vertex_count(), 1.0f);
     case SaliencyMethod::painted:
       if (mesh.has_quality()) return normalised(mesh.quality);
       if (mesh.has_colors()) {
@@ -57,7 +63,8 @@ std::vector<float> compute_saliency(const Mesh& mesh, SaliencyMethod method, con
         for (std::size_t i = 0; i < red.size(); ++i) red[i] = mesh.colors[i].r;
         return normalised(std::move(red));
       }
-      throw InputError(source, {}, "--saliency painted needs vertex quality or vertex colours, and the model has neither");
+      throw InputError(
+          source, {}, "--saliency painted needs vertex quality or vertex colours, and the model has neither");
   }
   return {};
 }
@@ -84,8 +91,9 @@ std::vector<float> read_vertex_values(const std::filesystem::path& path, std::si
     values.push_back(static_cast<float>(v));
   }
   if (values.size() != vertex_count)
-    throw InputError(name, {}, "has " + std::to_string(values.size()) + " values, the model has " +
-                                   std::to_string(vertex_count) + " vertices");
+    throw InputError(name, {},
+                     "has " + std::to_string(values.size()) + " values, the model has " +
+                         std::to_string(vertex_count) + " vertices");
   return values;
 }
 

@@ -67,7 +67,8 @@ Mesh canonical_copy(const Mesh& mesh) {
   const double rms = std::sqrt(std::max(cov.trace() / std::max<std::size_t>(1, n), 1e-300));
   for (int a = 0; a < 3; ++a) {
     double third = 0;
-    for (const Vec3& p : mesh.positions) third += std::pow(axes.col(a).dot(Eigen::Vector3d(p.x, p.y, p.z) - mean), 3);
+    for (const Vec3& p : mesh.positions)
+      third += std::pow(axes.col(a).dot(Eigen::Vector3d(p.x, p.y, p.z) - mean), 3);
     if (third < 0) axes.col(a) = -axes.col(a);
   }
   if (axes.determinant() < 0) axes.col(0) = -axes.col(0);  // stay a rotation: no mirror
@@ -78,8 +79,8 @@ Mesh canonical_copy(const Mesh& mesh) {
     const Eigen::Vector3d q = axes.transpose() * (Eigen::Vector3d(p.x, p.y, p.z) - mean) / rms;
     // Quantised to 2^-30 of the RMS radius: copies that differ only by rounding become identical.
     constexpr double grid = 1073741824.0;
-    out.positions.push_back({std::round(q.x() * grid) / grid, std::round(q.y() * grid) / grid,
-                             std::round(q.z() * grid) / grid});
+    out.positions.push_back(
+        {std::round(q.x() * grid) / grid, std::round(q.y() * grid) / grid, std::round(q.z() * grid) / grid});
   }
   return out;
 }
@@ -149,7 +150,8 @@ std::vector<double> spectral_irregularity(const Mesh& mesh) {
   return s;
 }
 
-std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& options, const RunContext& run) {
+std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& options,
+                                     const RunContext& run) {
   run.report("saliency", 0.0);
   run.check();
   const Mesh mesh = canonical_copy(input);

@@ -15,7 +15,8 @@ struct SpectralOptions {
 };
 
 // One value in [0, 1] per vertex of `mesh`. The ten eigen-decompositions run in parallel (TBB).
-std::vector<float> spectral_saliency(const Mesh& mesh, const SpectralOptions& options = {}, const RunContext& run = {});
+std::vector<float> spectral_saliency(const Mesh& mesh, const SpectralOptions& options = {},
+                                     const RunContext& run = {});
 
 // Step 2–5 on one mesh: per-vertex saliency from the log-Laplacian spectrum's irregularity,
 // back-projected over edges only. Exposed for tests.

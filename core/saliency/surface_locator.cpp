@@ -19,7 +19,9 @@ using Iterator = std::vector<Triangle3>::const_iterator;
 using Primitive = CGAL::AABB_triangle_primitive<Kernel, Iterator>;
 using Traits = CGAL::AABB_traits<Kernel, Primitive>;
 
-Kernel::Point_3 point(const Vec3& v) { return {v.x, v.y, v.z}; }
+Kernel::Point_3 point(const Vec3& v) {
+  return {v.x, v.y, v.z};
+}
 
 std::array<double, 3> barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 v0 = b - a, v1 = c - a, v2 = p - a;
@@ -42,7 +44,8 @@ struct SurfaceLocator::Tree {
 SurfaceLocator::SurfaceLocator(const Mesh& mesh) : mesh_(mesh), tree_(std::make_unique<Tree>()) {
   tree_->triangles.reserve(mesh.triangle_count());
   for (const Triangle& t : mesh.triangles)
-    tree_->triangles.emplace_back(point(mesh.positions[t[0]]), point(mesh.positions[t[1]]), point(mesh.positions[t[2]]));
+    tree_->triangles.emplace_back(point(mesh.positions[t[0]]), point(mesh.positions[t[1]]),
+                                  point(mesh.positions[t[2]]));
   tree_->tree.insert(tree_->triangles.cbegin(), tree_->triangles.cend());
   tree_->tree.accelerate_distance_queries();
 }
@@ -53,7 +56,8 @@ SurfacePoint SurfaceLocator::closest(const Vec3& query) const {
   const auto [p, it] = tree_->tree.closest_point_and_primitive(point(query));
   const auto face = static_cast<std::uint32_t>(it - tree_->triangles.cbegin());
   const Triangle& t = mesh_.triangles[face];
-  return {face, barycentric({p.x(), p.y(), p.z()}, mesh_.positions[t[0]], mesh_.positions[t[1]], mesh_.positions[t[2]])};
+  return {face, barycentric({p.x(), p.y(), p.z()}, mesh_.positions[t[0]], mesh_.positions[t[1]],
+                            mesh_.positions[t[2]])};
 }
 
 std::vector<double> transfer_values(const Mesh& from, std::span<const double> values, const Mesh& to) {
@@ -62,7 +66,8 @@ std::vector<double> transfer_values(const Mesh& from, std::span<const double> va
   for (std::size_t i = 0; i < out.size(); ++i) {
     const SurfacePoint s = locator.closest(to.positions[i]);
     const Triangle& t = from.triangles[s.face];
-    out[i] = s.barycentric[0] * values[t[0]] + s.barycentric[1] * values[t[1]] + s.barycentric[2] * values[t[2]];
+    out[i] =
+        s.barycentric[0] * values[t[0]] + s.barycentric[1] * values[t[1]] + s.barycentric[2] * values[t[2]];
   }
   return out;
 }

@@ -30,7 +30,8 @@ class PartBuilder {
   }
   void face(std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     part.mesh.triangles.push_back({a, b, c});
-    part.area += 0.5 * norm(cross(part.mesh.positions[b] - part.mesh.positions[a], part.mesh.positions[c] - part.mesh.positions[a]));
+    part.area += 0.5 * norm(cross(part.mesh.positions[b] - part.mesh.positions[a],
+                                  part.mesh.positions[c] - part.mesh.positions[a]));
   }
 
   MeshPart part;

@@ -1,11 +1,11 @@
 #include "core/segment/plan_region.hpp"
 
-#include "core/geometry/polygon_ops.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <set>
+
+#include "core/geometry/polygon_ops.hpp"
 
 namespace salient::core {
 namespace {
@@ -62,7 +62,8 @@ std::string check_regions(const ZProfile& whole, const std::vector<PlanRegion>& 
       if (w < alpha) return name + ": layer " + std::to_string(i) + " thinner than α";
       if (w > alpha_max) return name + ": layer " + std::to_string(i) + " thicker than ᾱ";
     }
-    if (region.side < -1 || region.side > 1 || (region.side < 0 && !region.sub.empty())) return name + ": no such part";
+    if (region.side < -1 || region.side > 1 || (region.side < 0 && !region.sub.empty()))
+      return name + ": no such part";
     for (int s : region.sub)
       if (s != 0 && s != 1) return name + ": no such part";
   }
@@ -75,8 +76,10 @@ std::string check_regions(const ZProfile& whole, const std::vector<PlanRegion>& 
     int wholes = 0;
     for (const PlanRegion& r : regions) {
       if (r.first_cell > k || r.last_cell <= k) continue;
-      if (r.side < 0) ++wholes;
-      else paths.push_back(r.sub), paths.back().insert(paths.back().begin(), r.side);
+      if (r.side < 0)
+        ++wholes;
+      else
+        paths.push_back(r.sub), paths.back().insert(paths.back().begin(), r.side);
     }
     if (!(wholes == 1 ? paths.empty() : wholes == 0 && tiles(paths)))
       return "height " + std::to_string(whole.z(k)) + " mm is not covered exactly once";
@@ -93,8 +96,9 @@ std::string check_regions(const ZProfile& whole, const std::vector<PlanRegion>& 
       int prev = -1;
       for (int h : heights) {
         if (prev >= 0 && h - prev < alpha)
-          return "regions " + std::to_string(r) + " and " + std::to_string(q) + " print " + std::to_string(whole.z(prev)) +
-                 " and " + std::to_string(whole.z(h)) + " mm side by side, closer than α";
+          return "regions " + std::to_string(r) + " and " + std::to_string(q) + " print " +
+                 std::to_string(whole.z(prev)) + " and " + std::to_string(whole.z(h)) +
+                 " mm side by side, closer than α";
         prev = h;
       }
     }

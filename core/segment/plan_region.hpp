@@ -14,10 +14,10 @@ namespace salient::core {
 struct PlanRegion {
   int first_cell = 0, last_cell = 0;  // the slab [first, last) on the whole model's grid
   int side = -1;                      // -1: the whole section; 0 or 1: that side of the first cut
-  std::vector<int> sub;               // the sides it lies on of deeper cuts inside that part (recursive SegOpt)
-  Polygon clip;                       // the XY area it prints (empty: all of it)
-  LayerPlan plan;                     // boundaries in the whole model's cells, first..last
-  double error = 0, epsilon = 0;      // E and its budget ε, both on the region's own profile
+  std::vector<int> sub;           // the sides it lies on of deeper cuts inside that part (recursive SegOpt)
+  Polygon clip;                   // the XY area it prints (empty: all of it)
+  LayerPlan plan;                 // boundaries in the whole model's cells, first..last
+  double error = 0, epsilon = 0;  // E and its budget ε, both on the region's own profile
 
   int layers() const { return plan.layer_count(); }
 };

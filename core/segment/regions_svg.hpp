@@ -11,6 +11,7 @@ namespace salient::core {
 // Two columns, one per side of the cut, sharing the height axis; a whole-section region spans
 // both (on a grey band). One bar per layer, its length the thickness (α..ᾱ), thin = red to
 // thick = blue; dashed lines at the slab boundaries.
-std::string regions_svg(const ZProfile& whole, const std::vector<PlanRegion>& regions, const std::string& title);
+std::string regions_svg(const ZProfile& whole, const std::vector<PlanRegion>& regions,
+                        const std::string& title);
 
 }  // namespace salient::core

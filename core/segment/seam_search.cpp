@@ -51,8 +51,8 @@ std::optional<SeamCandidate> find_cut(const Mesh& mesh, std::span<const float> s
   return best.front();
 }
 
-std::vector<SeamCandidate> find_cuts(const Mesh& mesh, std::span<const float> saliency, int count, const SeamOptions& o,
-                                     const RunContext& run) {
+std::vector<SeamCandidate> find_cuts(const Mesh& mesh, std::span<const float> saliency, int count,
+                                     const SeamOptions& o, const RunContext& run) {
   if (mesh.triangles.empty() || o.directions < 1 || o.offsets < 1 || count < 1) return {};
   const std::vector<double> weight = seam_weights(mesh, saliency, o.lambda1);
   float s_max = 0;
@@ -75,7 +75,8 @@ std::vector<SeamCandidate> find_cuts(const Mesh& mesh, std::span<const float> sa
     CutPlane plane{std::cos(angle), std::sin(angle), 0};
     std::vector<double> t(mesh.vertex_count());
     double lo = INFINITY, hi = -INFINITY;
-    for (std::size_t v = 0; v < t.size(); ++v) t[v] = plane.nx * mesh.positions[v].x + plane.ny * mesh.positions[v].y;
+    for (std::size_t v = 0; v < t.size(); ++v)
+      t[v] = plane.nx * mesh.positions[v].x + plane.ny * mesh.positions[v].y;
     for (const Triangle& tri : mesh.triangles)
       for (std::uint32_t v : tri) lo = std::min(lo, t[v]), hi = std::max(hi, t[v]);
     const double step = (hi - lo) / o.offsets;
@@ -121,7 +122,8 @@ std::vector<SeamCandidate> find_cuts(const Mesh& mesh, std::span<const float> sa
     for (int j = 0; j < o.offsets; ++j) {
       if (!(length[j] > 0)) continue;
       const double off = offset_of(j);
-      const std::size_t k = std::lower_bound(order.begin(), order.end(), std::make_pair(off, std::size_t{0})) - order.begin();
+      const std::size_t k =
+          std::lower_bound(order.begin(), order.end(), std::make_pair(off, std::size_t{0})) - order.begin();
       const double a0 = area_prefix[k], a1 = total_area - a0;
       const double share = std::min(a0, a1) / total_area;
       if (share < o.min_share) continue;
@@ -147,7 +149,8 @@ std::vector<SeamCandidate> find_cuts(const Mesh& mesh, std::span<const float> sa
   for (const DirectionResult& r : results)
     if (r.best) best.push_back(*r.best);
   // Stable: equal costs keep direction order, so the answer is the same every run.
-  std::stable_sort(best.begin(), best.end(), [](const SeamCandidate& a, const SeamCandidate& b) { return a.cost < b.cost; });
+  std::stable_sort(best.begin(), best.end(),
+                   [](const SeamCandidate& a, const SeamCandidate& b) { return a.cost < b.cost; });
   if (best.size() > static_cast<std::size_t>(count)) best.resize(count);
   return best;
 }

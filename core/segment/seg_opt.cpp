@@ -55,8 +55,8 @@ void add_critical(const ZProfile& p, const LayerPlan& plan, double jump, std::ve
 }
 
 // The exact planner restricted to the allowed cells: fewest layers within the budget.
-std::optional<LayerPlan> exact_on_allowed(const Objective& objective, std::vector<char> allowed, double epsilon,
-                                          const RunContext& run) {
+std::optional<LayerPlan> exact_on_allowed(const Objective& objective, std::vector<char> allowed,
+                                          double epsilon, const RunContext& run) {
   ExactSolver solver(objective, run);
   solver.restrict_boundaries(std::move(allowed));
   const ZProfile& p = objective.profile();
@@ -98,8 +98,8 @@ std::vector<const PlanRegion*> with(std::vector<const PlanRegion*> list, const P
 
 }  // namespace
 
-std::array<double, 2> split_budget(const ZProfile& part0, const ZProfile& part1, Metric metric, double epsilon,
-                                   double weight0, double weight1, const RunContext& run) {
+std::array<double, 2> split_budget(const ZProfile& part0, const ZProfile& part1, Metric metric,
+                                   double epsilon, double weight0, double weight1, const RunContext& run) {
   const Objective o0(part0, metric), o1(part1, metric);
   ExactSolver s0(o0, run), s1(o1, run);
   double best_cost = INFINITY, best_e0 = 0;
@@ -113,9 +113,10 @@ std::array<double, 2> split_budget(const ZProfile& part0, const ZProfile& part1,
   return {best_e0, std::max(0.0, epsilon - best_e0)};
 }
 
-std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region, std::optional<double> epsilon,
-                                      const SegOptInput& in, const std::vector<const PlanRegion*>& candidates,
-                                      const RunContext& run, const std::vector<const PlanRegion*>& align) {
+std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region,
+                                      std::optional<double> epsilon, const SegOptInput& in,
+                                      const std::vector<const PlanRegion*>& candidates, const RunContext& run,
+                                      const std::vector<const PlanRegion*>& align) {
   const int first = region.first_cell, last = region.last_cell;
   std::vector<const PlanRegion*> meet;  // those it touches
   for (const PlanRegion* n : candidates)
@@ -145,7 +146,8 @@ std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region
     }
   }
   if (!meets(profile, region, meet)) {
-    const auto constrained = exact_on_allowed(objective, seam_allowed(profile, first, last, meet), region.epsilon, run);
+    const auto constrained =
+        exact_on_allowed(objective, seam_allowed(profile, first, last, meet), region.epsilon, run);
     if (!constrained) return std::nullopt;
     local = *constrained;
     to_whole(local);
@@ -154,18 +156,23 @@ std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region
   return region;
 }
 
-SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const SegOptOptions& o, const RunContext& run) {
+SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const SegOptOptions& o,
+                     const RunContext& run) {
   const ZProfile& whole = in.profile;  // the part's own profile when in.part is set
-  const int first_cell = in.part ? in.part->first_cell : 0, last_cell = in.part ? in.part->last_cell : whole.cells();
+  const int first_cell = in.part ? in.part->first_cell : 0,
+            last_cell = in.part ? in.part->last_cell : whole.cells();
   SegOptResult out;
   run.report("segment", 0);
   const std::optional<PlanRegion> single =
-      in.part ? *in.part : plan_region(whole, shape_of(in, first_cell, last_cell, -1, {}), std::nullopt, in, in.neighbours, run);
+      in.part ? *in.part
+              : plan_region(whole, shape_of(in, first_cell, last_cell, -1, {}), std::nullopt, in,
+                            in.neighbours, run);
   if (!single) throw std::logic_error("seg_opt: a whole model always has a plan");
   out.regions = {*single};
   out.whole_seconds = out.seconds = seconds(out.regions);
 
-  const std::vector<SeamCandidate> planes = find_cuts(in.mesh, in.saliency, std::max(1, o.planes), o.seam, run);
+  const std::vector<SeamCandidate> planes =
+      find_cuts(in.mesh, in.saliency, std::max(1, o.planes), o.seam, run);
   if (planes.empty()) {
     out.note = "not cut: no vertical plane divides the model into parts of at least " +
                std::to_string(static_cast<int>(100 * o.seam.min_share)) + " % of its surface each";
@@ -173,8 +180,9 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   }
   // Algorithm 1, line 1–2: both parts, each planned over the whole height (for each plane timed).
   const BoundingBox box = bounding_box(in.mesh);
-  const Polygon area = in.part && !in.part->clip.empty() ? in.part->clip
-                                                         : rectangle({box.min.x - 5, box.min.y - 5}, {box.max.x + 5, box.max.y + 5});
+  const Polygon area = in.part && !in.part->clip.empty()
+                           ? in.part->clip
+                           : rectangle({box.min.x - 5, box.min.y - 5}, {box.max.x + 5, box.max.y + 5});
   struct Trial {
     std::array<MeshPart, 2> parts;
     Polygon clip[2];
@@ -187,12 +195,15 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
     Trial t{split_mesh(in.mesh, in.saliency, candidate.plane), {}, {}, {}, 0};
     for (int s = 0; s < 2; ++s) {
       t.clip[s] = half_plane(candidate.plane, s, area);
-      t.profile.push_back(ZProfile::build(t.parts[s].mesh, t.parts[s].values, whole.params(), run, whole.height()));
+      t.profile.push_back(
+          ZProfile::build(t.parts[s].mesh, t.parts[s].values, whole.params(), run, whole.height()));
     }
-    const auto budget = split_budget(t.profile[0].window(first_cell, last_cell), t.profile[1].window(first_cell, last_cell),
-                                     in.metric, single->epsilon, t.parts[0].area, t.parts[1].area, run);
+    const auto budget =
+        split_budget(t.profile[0].window(first_cell, last_cell), t.profile[1].window(first_cell, last_cell),
+                     in.metric, single->epsilon, t.parts[0].area, t.parts[1].area, run);
     for (int s = 0; s < 2; ++s)
-      t.halves.push_back(*plan_region(t.profile[s], shape_of(in, first_cell, last_cell, s, t.clip[s]), budget[s], in, {}, run));
+      t.halves.push_back(*plan_region(t.profile[s], shape_of(in, first_cell, last_cell, s, t.clip[s]),
+                                      budget[s], in, {}, run));
     t.seconds = seconds(t.halves);  // T1 + T2, printed together as they will be
     if (!chosen || t.seconds < chosen->seconds) {
       chosen = std::move(t);
@@ -208,8 +219,10 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   out.parts = halves;
   const double ratio = out.parts_seconds / out.whole_seconds;
   if (!(ratio < o.tau)) {
-    out.note = "not cut: the best plane's parts take " + std::to_string(static_cast<int>(std::lround(100 * ratio))) +
-               " % of the whole's time (cut below " + std::to_string(static_cast<int>(std::lround(100 * o.tau))) + " %)";
+    out.note = "not cut: the best plane's parts take " +
+               std::to_string(static_cast<int>(std::lround(100 * ratio))) +
+               " % of the whole's time (cut below " +
+               std::to_string(static_cast<int>(std::lround(100 * o.tau))) + " %)";
     return out;
   }
   run.report("segment", 0.6);
@@ -220,12 +233,14 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   std::sort(critical.begin(), critical.end());
   std::vector<int> cuts{first_cell};
   for (int c : critical)
-    if (c > cuts.back() && printable(whole, c - cuts.back()) && printable(whole, last_cell - c)) cuts.push_back(c);
+    if (c > cuts.back() && printable(whole, c - cuts.back()) && printable(whole, last_cell - c))
+      cuts.push_back(c);
   cuts.push_back(last_cell);
   for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
     run.check();
     Slab slab{cuts[i], cuts[i + 1], false};
-    for (int s = 0; s < 2; ++s) slab.loss[s] = relative_loss(profile[s], in.metric, halves[s].plan, slab.first_cell, slab.last_cell);
+    for (int s = 0; s < 2; ++s)
+      slab.loss[s] = relative_loss(profile[s], in.metric, halves[s].plan, slab.first_cell, slab.last_cell);
     slab.merged = std::fabs(slab.loss[0] - slab.loss[1]) < o.similar_loss;
     out.slabs.push_back(slab);
   }
@@ -239,15 +254,16 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
     std::size_t j = i;
     double loss[2] = {0, 0};
     while (j < out.slabs.size() && out.slabs[j].merged == out.slabs[i].merged) {
-      for (int s = 0; s < 2; ++s) loss[s] += out.slabs[j].loss[s] * (out.slabs[j].last_cell - out.slabs[j].first_cell);
+      for (int s = 0; s < 2; ++s)
+        loss[s] += out.slabs[j].loss[s] * (out.slabs[j].last_cell - out.slabs[j].first_cell);
       ++j;
     }
     const int first = out.slabs[i].first_cell, last = out.slabs[j - 1].last_cell;
     std::optional<PlanRegion> pair[2];
     if (!out.slabs[i].merged) {
       const double eps = Objective(whole.window(first, last), in.metric).epsilon(in.rho);
-      const auto share = split_budget(profile[0].window(first, last), profile[1].window(first, last), in.metric, eps,
-                                      parts[0].area, parts[1].area, run);
+      const auto share = split_budget(profile[0].window(first, last), profile[1].window(first, last),
+                                      in.metric, eps, parts[0].area, parts[1].area, run);
       // One part is planned first, the other then meets its layers (and gets what the first left
       // of the slab's budget). Which order costs less depends on the parts: a thin part inside a
       // thick one's layers keeps most of its choices, unless it must keep exactly α layers; so
@@ -261,7 +277,8 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
           if (touching(shape_b, *n)) beside_b.push_back(n);
         // If what is left is not enough for the second part, the first gives up more of its share.
         for (double give : {1.0, 0.5, 0.25}) {
-          auto pa = plan_region(profile[a], shape_of(in, first, last, a, clip[a]), give * share[a], in, in.neighbours, run, beside_b);
+          auto pa = plan_region(profile[a], shape_of(in, first, last, a, clip[a]), give * share[a], in,
+                                in.neighbours, run, beside_b);
           if (!pa) continue;
           auto pb = plan_region(profile[b], shape_b, eps - pa->error, in, with(in.neighbours, &*pa), run);
           if (!pb) continue;
@@ -291,8 +308,8 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   std::vector<PlanRegion> joined;
   for (PlanRegion& r : regions) {
     const bool uncut_here = r.sub.size() == (in.part ? in.part->sub.size() : 0) && (in.part || r.side < 0);
-    const bool after_uncut = !joined.empty() && joined.back().sub.size() == r.sub.size() && joined.back().side == r.side &&
-                             joined.back().clip == r.clip;
+    const bool after_uncut = !joined.empty() && joined.back().sub.size() == r.sub.size() &&
+                             joined.back().side == r.side && joined.back().clip == r.clip;
     if (uncut_here && after_uncut) {
       if (auto j = uncut(joined.back().first_cell, r.last_cell)) {
         joined.back() = std::move(*j);
@@ -315,17 +332,20 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
       const PlanRegion r = joined[k];
       if (r.sub.size() != (in.part ? in.part->sub.size() + 1 : 0) || r.side < 0) continue;  // an uncut slab
       const int s = in.part ? r.sub.back() : r.side;
-      const MeshPart slab = crop_z(parts[s].mesh, parts[s].values, whole.z(r.first_cell), whole.z(r.last_cell));
+      const MeshPart slab =
+          crop_z(parts[s].mesh, parts[s].values, whole.z(r.first_cell), whole.z(r.last_cell));
       // The part's budget becomes its own ρ, so its slabs share ε as the whole model's do.
       const double e_coarse = Objective(profile[s].window(r.first_cell, r.last_cell), in.metric).e_coarse();
       const double rho = e_coarse > 0 ? r.epsilon / e_coarse : in.rho;
-      SegOptInput sub{slab.mesh, slab.values, profile[s], in.metric, in.planner, rho, in.seed, &r, in.neighbours};
+      SegOptInput sub{slab.mesh, slab.values, profile[s], in.metric,    in.planner,
+                      rho,       in.seed,     &r,         in.neighbours};
       for (std::size_t q = 0; q < joined.size(); ++q)
         if (q != k) sub.neighbours.push_back(&joined[q]);
       const SegOptResult inner = seg_opt(sub, seconds, next, run);
       if (!inner.cut) continue;
       joined.erase(joined.begin() + static_cast<std::ptrdiff_t>(k));
-      joined.insert(joined.begin() + static_cast<std::ptrdiff_t>(k), inner.regions.begin(), inner.regions.end());
+      joined.insert(joined.begin() + static_cast<std::ptrdiff_t>(k), inner.regions.begin(),
+                    inner.regions.end());
       k += inner.regions.size() - 1;
       deeper += static_cast<int>(inner.regions.size()) - 1;
     }

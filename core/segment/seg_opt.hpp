@@ -29,8 +29,8 @@ struct SegOptOptions {
   double tau = 0.85;            // keep the cut if (T1 + T2)/T < τ
   double critical_jump = 0.05;  // mm: neighbouring layers differing more make a critical height
   double similar_loss = 0.03;   // merge a slab where the parts' relative losses differ less
-  int depth = 1;                // levels of cutting: 2 and more cut each part again (Algorithm 1, recursively)
-  int planes = 1;               // planes whose parts are planned and timed, best f(C) first (the paper: 1)
+  int depth = 1;   // levels of cutting: 2 and more cut each part again (Algorithm 1, recursively)
+  int planes = 1;  // planes whose parts are planned and timed, best f(C) first (the paper: 1)
 };
 
 struct SegOptInput {
@@ -38,8 +38,8 @@ struct SegOptInput {
   std::span<const float> saliency;  // per vertex
   const ZProfile& profile;          // of the whole model
   Metric metric = Metric::area;
-  const Planner& planner;           // any planner that needs only the objective (not ha13)
-  double rho = 0.05;                // a slab's ε = ρ · its E(coarse), shared by its parts (split_budget)
+  const Planner& planner;  // any planner that needs only the objective (not ha13)
+  double rho = 0.05;       // a slab's ε = ρ · its E(coarse), shared by its parts (split_budget)
   std::uint64_t seed = 1;
   // A part of an already cut model (recursive SegOpt; the defaults are the whole model): its
   // region (slab, side, clip, plan and budget: `mesh` and `profile` are the part's, `rho` its
@@ -53,20 +53,21 @@ using RegionTimer = std::function<double(const std::vector<PlanRegion>&)>;
 
 struct Slab {
   int first_cell, last_cell;
-  bool merged;             // one region across the cut
+  bool merged;              // one region across the cut
   double loss[2] = {0, 0};  // each part's relative loss there (RSMD of its plan within the slab)
 };
 
 struct SegOptResult {
-  std::vector<PlanRegion> regions;    // a single whole region when the model is not cut
+  std::vector<PlanRegion> regions;  // a single whole region when the model is not cut
   bool cut = false;
-  std::optional<SeamCandidate> seam;  // the plane chosen (the fastest parts of those timed), whether kept or not
-  std::vector<PlanRegion> parts;      // both parts over the full height (T1 + T2), when cut
-  std::vector<Slab> slabs;            // the horizontal segmentation, when it was reached
-  double whole_seconds = 0;           // T: the whole model with one plan
-  double parts_seconds = 0;           // T1 + T2: each part planned over the full height, printed together
-  double seconds = 0;                 // the result's
-  std::string note;                   // what was decided and why
+  std::optional<SeamCandidate>
+      seam;                       // the plane chosen (the fastest parts of those timed), whether kept or not
+  std::vector<PlanRegion> parts;  // both parts over the full height (T1 + T2), when cut
+  std::vector<Slab> slabs;        // the horizontal segmentation, when it was reached
+  double whole_seconds = 0;       // T: the whole model with one plan
+  double parts_seconds = 0;       // T1 + T2: each part planned over the full height, printed together
+  double seconds = 0;             // the result's
+  std::string note;               // what was decided and why
 };
 
 // Throws Cancelled when run.cancel fires. Progress: phase "segment".
@@ -78,15 +79,17 @@ SegOptResult seg_opt(const SegOptInput& input, const RegionTimer& seconds, const
 // seam rule against every region of `meet` it touches (the exact planner on the allowed cells when
 // the planner's own plan breaks it). With `align`, it keeps to those regions' boundaries where that
 // reaches ε. Empty if no plan on the allowed cells reaches ε.
-std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion shape, std::optional<double> epsilon,
-                                      const SegOptInput& input, const std::vector<const PlanRegion*>& meet,
-                                      const RunContext& run, const std::vector<const PlanRegion*>& align = {});
+std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion shape,
+                                      std::optional<double> epsilon, const SegOptInput& input,
+                                      const std::vector<const PlanRegion*>& meet, const RunContext& run,
+                                      const std::vector<const PlanRegion*>& align = {});
 
 // The two parts of a slab share its budget ε: the split with the least Σ w_s·n_s such that
 // Σ E_s(n_s) ≤ ε, n_s the layers of part s's best plan (exact) and w_s its weight (surface area,
 // for the time a layer of it takes). A part with little saliency takes the budget to go coarse
 // instead of being held to the same relative loss as the salient one. Returns {ε_0, ε_1}.
-std::array<double, 2> split_budget(const ZProfile& part0, const ZProfile& part1, Metric metric, double epsilon,
-                                   double weight0, double weight1, const RunContext& run = {});
+std::array<double, 2> split_budget(const ZProfile& part0, const ZProfile& part1, Metric metric,
+                                   double epsilon, double weight0, double weight1,
+                                   const RunContext& run = {});
 
 }  // namespace salient::core

@@ -14,18 +14,18 @@ namespace salient::core {
 
 struct ComparisonRow {
   std::string planner;
-  int layers_at_count = 0;    // what it reached when asked for the reference count
+  int layers_at_count = 0;  // what it reached when asked for the reference count
   double rsmd_at_count = 0;
-  int layers_at_rsmd = 0;     // fewest layers it needs for E ≤ E(reference)
+  int layers_at_rsmd = 0;  // fewest layers it needs for E ≤ E(reference)
   double rsmd_at_rsmd = 0;
-  double seconds = 0;         // both runs
+  double seconds = 0;  // both runs
   std::string note;
 };
 
 struct Comparison {
   double rho = 0;
   double epsilon = 0;
-  int reference_layers = 0;   // exact at ρ
+  int reference_layers = 0;  // exact at ρ
   double reference_rsmd = 0;
   int fine_layers = 0, coarse_layers = 0;
   std::vector<ComparisonRow> rows;

@@ -54,8 +54,10 @@ void ExactSolver::compute_row() {
       if (w < wmin || prev_[i] == inf) continue;
       const double h = zj - p.z(i);
       double cost;
-      if constexpr (M == Metric::area) cost = 0.5 * h * (P[j] - P[i]);
-      else cost = h * s_max * c_max;
+      if constexpr (M == Metric::area)
+        cost = 0.5 * h * (P[j] - P[i]);
+      else
+        cost = h * s_max * c_max;
       const double f = prev_[i] + cost;
       if (f < best) {
         best = f;
@@ -82,8 +84,10 @@ void ExactSolver::compute_rows_up_to(int n) {
   n = std::min(n, most);
   while (rows_ < n) {
     run_.check();
-    if (objective_.metric() == Metric::area) compute_row<Metric::area>();
-    else compute_row<Metric::paper>();
+    if (objective_.metric() == Metric::area)
+      compute_row<Metric::area>();
+    else
+      compute_row<Metric::paper>();
     run_.report("exact", static_cast<double>(rows_) / most);
   }
 }
@@ -95,7 +99,8 @@ double ExactSolver::best_sm(int n) {
 }
 
 LayerPlan ExactSolver::plan(int n) {
-  if (best_sm(n) == inf) throw std::invalid_argument("ExactSolver::plan: no plan with " + std::to_string(n) + " layers");
+  if (best_sm(n) == inf)
+    throw std::invalid_argument("ExactSolver::plan: no plan with " + std::to_string(n) + " layers");
   LayerPlan plan;
   plan.boundaries.resize(n + 1);
   int j = objective_.profile().cells();

@@ -32,9 +32,9 @@ class ExactSolver {
 
   const Objective& objective_;
   RunContext run_;
-  std::vector<double> prev_, cur_;         // f[n−1][*], f[n][*]
-  std::vector<char> allowed_;              // empty: every cell
-  std::vector<double> final_;              // f[n][M] for every computed n (index n)
+  std::vector<double> prev_, cur_;                // f[n−1][*], f[n][*]
+  std::vector<char> allowed_;                     // empty: every cell
+  std::vector<double> final_;                     // f[n][M] for every computed n (index n)
   std::vector<std::vector<std::uint16_t>> back_;  // back_[n][j] = width of the last layer
   int rows_ = 0;
 };

@@ -13,13 +13,16 @@ LayerPlan uniform_plan(const ZProfile& profile, int n) {
     throw std::invalid_argument("uniform_plan: no valid plan with " + std::to_string(n) + " layers");
   LayerPlan plan;
   plan.boundaries.resize(n + 1);
-  for (int i = 0; i <= n; ++i)
-    plan.boundaries[i] = static_cast<int>(static_cast<long long>(i) * m / n);
+  for (int i = 0; i <= n; ++i) plan.boundaries[i] = static_cast<int>(static_cast<long long>(i) * m / n);
   return plan;
 }
 
-LayerPlan fine_plan(const ZProfile& profile) { return uniform_plan(profile, profile.most_layers()); }
-LayerPlan coarse_plan(const ZProfile& profile) { return uniform_plan(profile, profile.fewest_layers()); }
+LayerPlan fine_plan(const ZProfile& profile) {
+  return uniform_plan(profile, profile.most_layers());
+}
+LayerPlan coarse_plan(const ZProfile& profile) {
+  return uniform_plan(profile, profile.fewest_layers());
+}
 
 std::string check_plan(const ZProfile& profile, const LayerPlan& plan) {
   if (plan.boundaries.size() < 2) return "plan has no layers";

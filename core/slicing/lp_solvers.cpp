@@ -33,9 +33,8 @@ std::optional<std::vector<int>> solve_visual_lp(const std::vector<double>& g, co
 namespace {
 
 // Fill `total` into boxes [0, u] in ascending order of c + λ·g (ties: smaller g first).
-std::vector<double> fill(const std::vector<double>& c, const std::vector<double>& g, const std::vector<double>& u,
-                         double total,
-                         double lambda, bool by_g_only) {
+std::vector<double> fill(const std::vector<double>& c, const std::vector<double>& g,
+                         const std::vector<double>& u, double total, double lambda, bool by_g_only) {
   std::vector<std::size_t> order(c.size());
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {

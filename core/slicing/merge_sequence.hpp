@@ -29,8 +29,8 @@ class MergeSequence {
 
  private:
   LayerPlan start_;
-  std::vector<int> removed_;       // index into start_.boundaries, in merge order
-  std::vector<double> loss_after_; // accumulated loss after each merge
+  std::vector<int> removed_;        // index into start_.boundaries, in merge order
+  std::vector<double> loss_after_;  // accumulated loss after each merge
 };
 
 }  // namespace salient::core

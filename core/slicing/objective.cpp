@@ -9,7 +9,9 @@ std::optional<Metric> parse_metric(std::string_view name) {
   return std::nullopt;
 }
 
-std::string_view metric_name(Metric metric) { return metric == Metric::area ? "area" : "paper"; }
+std::string_view metric_name(Metric metric) {
+  return metric == Metric::area ? "area" : "paper";
+}
 
 Objective::Objective(const ZProfile& profile, Metric metric, bool geometric)
     : profile_(profile), metric_(metric), geometric_(geometric), channel_(profile.channel(geometric)) {

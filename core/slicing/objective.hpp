@@ -41,11 +41,11 @@ class Objective {
     if (metric_ == Metric::area) return 0.5 * h * (channel_.A_prefix[j] - channel_.A_prefix[i]);
     return h * channel_.S_max(i, j) * profile_.max_cos(i, j);
   }
-  double sm(const LayerPlan& plan) const;              // eq. 2
+  double sm(const LayerPlan& plan) const;                                    // eq. 2
   double error(const LayerPlan& plan) const { return sm(plan) - sm_fine_; }  // E, eq. 3
   double rsmd(const LayerPlan& plan) const { return e_coarse_ > 0 ? error(plan) / e_coarse_ : 0; }
   double sm_fine() const { return sm_fine_; }
-  double e_coarse() const { return e_coarse_; }       // E of uniform ᾱ
+  double e_coarse() const { return e_coarse_; }                 // E of uniform ᾱ
   double epsilon(double rho) const { return rho * e_coarse_; }  // ε = ρ · E(coarse)
 
   std::vector<LayerReport> layers(const LayerPlan& plan) const;

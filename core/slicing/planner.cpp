@@ -6,8 +6,8 @@
 namespace salient::core {
 
 const std::vector<std::string_view>& planner_names() {
-  static const std::vector<std::string_view> names = {"exact", "adapslice", "hms",  "uniform", "cusp", "stepwise",
-                                                      "ha13",  "ceo",       "random", "fine",  "coarse"};
+  static const std::vector<std::string_view> names = {
+      "exact", "adapslice", "hms", "uniform", "cusp", "stepwise", "ha13", "ceo", "random", "fine", "coarse"};
   return names;
 }
 

@@ -30,7 +30,7 @@ struct PlanRequest {
   const Mesh* mesh = nullptr;            // the placed mesh (for `ha13`, which cuts sections)
   const Objective* geometric = nullptr;  // the same metric with saliency ≡ 1 (for `ceo`)
   PlanTarget target;
-  std::uint64_t seed = 1;                // for `random`
+  std::uint64_t seed = 1;  // for `random`
   RunContext run;
 };
 
@@ -43,8 +43,8 @@ struct PlanStep {
 
 struct PlanResult {
   LayerPlan plan;
-  std::string note;              // e.g. why the requested count could not be reached
-  std::vector<PlanStep> trace;   // adapslice's steps
+  std::string note;             // e.g. why the requested count could not be reached
+  std::vector<PlanStep> trace;  // adapslice's steps
 };
 
 class Planner {

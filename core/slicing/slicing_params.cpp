@@ -22,8 +22,12 @@ bool divides(double grid, double length) {
 
 }  // namespace
 
-int SlicingParams::min_cells() const { return static_cast<int>(std::lround(min_layer / grid)); }
-int SlicingParams::max_cells() const { return static_cast<int>(std::lround(max_layer / grid)); }
+int SlicingParams::min_cells() const {
+  return static_cast<int>(std::lround(min_layer / grid));
+}
+int SlicingParams::max_cells() const {
+  return static_cast<int>(std::lround(max_layer / grid));
+}
 
 void validate(const SlicingParams& p) {
   if (!(std::isfinite(p.min_layer) && p.min_layer > 0))
@@ -31,14 +35,17 @@ void validate(const SlicingParams& p) {
   if (!(std::isfinite(p.max_layer) && p.max_layer > 0))
     throw InputError("--max-layer", {}, "must be a positive number of millimetres, got " + fmt(p.max_layer));
   if (p.min_layer > p.max_layer)
-    throw InputError("--min-layer", {}, fmt(p.min_layer) + " mm is greater than --max-layer " + fmt(p.max_layer) + " mm");
+    throw InputError("--min-layer", {},
+                     fmt(p.min_layer) + " mm is greater than --max-layer " + fmt(p.max_layer) + " mm");
   if (!(std::isfinite(p.grid) && p.grid > 0))
     throw InputError("--grid", {}, "must be a positive number of millimetres, got " + fmt(p.grid));
   if (!divides(p.grid, p.min_layer) || !divides(p.grid, p.max_layer))
-    throw InputError("--grid", {}, fmt(p.grid) + " mm does not divide --min-layer " + fmt(p.min_layer) +
-                                       " and --max-layer " + fmt(p.max_layer));
+    throw InputError("--grid", {},
+                     fmt(p.grid) + " mm does not divide --min-layer " + fmt(p.min_layer) +
+                         " and --max-layer " + fmt(p.max_layer));
   if (p.max_cells() > 4000)
-    throw InputError("--grid", {}, fmt(p.grid) + " mm is too fine: --max-layer would span more than 4000 cells");
+    throw InputError("--grid", {},
+                     fmt(p.grid) + " mm is too fine: --max-layer would span more than 4000 cells");
 }
 
 void validate_rho(double rho) {

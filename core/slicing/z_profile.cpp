@@ -85,12 +85,15 @@ ZProfile ZProfile::build(const Mesh& mesh, std::span<const float> saliency, cons
   p.height_ = height > 0 ? height : box.max.z;
   const double delta = params.grid;
   if (!(p.height_ >= params.min_layer))
-    throw InputError("model", {}, "is " + mm(p.height_) + " mm tall, lower than --min-layer " + mm(params.min_layer) + " mm");
+    throw InputError(
+        "model", {},
+        "is " + mm(p.height_) + " mm tall, lower than --min-layer " + mm(params.min_layer) + " mm");
   // A height within a millionth of a cell of the grid counts as on it.
   p.cells_ = static_cast<int>(std::ceil(p.height_ / delta - 1e-6));
   if (p.fewest_layers() > p.most_layers())
-    throw InputError("model", {}, "height " + mm(p.height_) + " mm cannot be cut into layers of " +
-                                      mm(params.min_layer) + " to " + mm(params.max_layer) + " mm");
+    throw InputError("model", {},
+                     "height " + mm(p.height_) + " mm cannot be cut into layers of " + mm(params.min_layer) +
+                         " to " + mm(params.max_layer) + " mm");
 
   Accumulator acc(p.cells_);
   const double flat_eps = 1e-9 * std::max(1.0, p.height_);
@@ -162,7 +165,8 @@ ProfileChannel channel_window(const ProfileChannel& c, int first, int last) {
 }  // namespace
 
 ZProfile ZProfile::window(int first, int last) const {
-  if (first < 0 || last > cells_ || first >= last) throw std::invalid_argument("ZProfile::window: bad cell range");
+  if (first < 0 || last > cells_ || first >= last)
+    throw std::invalid_argument("ZProfile::window: bad cell range");
   ZProfile p;
   p.params_ = params_;
   p.min_cells_ = min_cells_;
@@ -170,8 +174,10 @@ ZProfile ZProfile::window(int first, int last) const {
   p.cells_ = last - first;
   p.height_ = z(last) - z(first);
   if (p.fewest_layers() > p.most_layers())
-    throw InputError("model", {}, "the slab from " + mm(z(first)) + " to " + mm(z(last)) + " mm cannot be cut into layers of " +
-                                      mm(params_.min_layer) + " to " + mm(params_.max_layer) + " mm");
+    throw InputError("model", {},
+                     "the slab from " + mm(z(first)) + " to " + mm(z(last)) +
+                         " mm cannot be cut into layers of " + mm(params_.min_layer) + " to " +
+                         mm(params_.max_layer) + " mm");
   p.salient_ = channel_window(salient_, first, last);
   p.geometric_ = channel_window(geometric_, first, last);
   p.C_.assign(C_.begin() + first, C_.begin() + last);

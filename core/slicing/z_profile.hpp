@@ -34,12 +34,12 @@ class ZProfile {
   // segmented model). Throws InputError if the slab cannot be cut into layers of α..ᾱ.
   ZProfile window(int first, int last) const;
 
-  int cells() const { return cells_; }                 // M
-  double height() const { return height_; }            // H, mm
-  double grid() const { return params_.grid; }         // δ
+  int cells() const { return cells_; }          // M
+  double height() const { return height_; }     // H, mm
+  double grid() const { return params_.grid; }  // δ
   const SlicingParams& params() const { return params_; }
-  int min_cells() const { return min_cells_; }         // α / δ
-  int max_cells() const { return max_cells_; }         // ᾱ / δ
+  int min_cells() const { return min_cells_; }  // α / δ
+  int max_cells() const { return max_cells_; }  // ᾱ / δ
   double z(int k) const { return k >= cells_ ? height_ : k * params_.grid; }
   std::size_t dropped_faces() const { return dropped_faces_; }
 

@@ -9,7 +9,9 @@
 namespace salient::core {
 namespace {
 
-Point2 rotate(const Point2& p, double c, double s) { return {c * p.x - s * p.y, s * p.x + c * p.y}; }
+Point2 rotate(const Point2& p, double c, double s) {
+  return {c * p.x - s * p.y, s * p.x + c * p.y};
+}
 
 }  // namespace
 
@@ -24,7 +26,8 @@ Polylines rectilinear_infill(const Polygons& region, double spacing, double angl
       x0 = std::min(x0, p.x), x1 = std::max(x1, p.x), y0 = std::min(y0, p.y), y1 = std::max(y1, p.y);
     }
   Polylines lines;
-  for (double y = std::ceil(y0 / spacing) * spacing; y <= y1; y += spacing) lines.push_back({{x0 - 1, y}, {x1 + 1, y}});
+  for (double y = std::ceil(y0 / spacing) * spacing; y <= y1; y += spacing)
+    lines.push_back({{x0 - 1, y}, {x1 + 1, y}});
   Polylines clipped = clip_lines(lines, turned);
   // Sort by scanline, then alternate direction so each line starts where the last ended.
   for (Polyline& l : clipped)

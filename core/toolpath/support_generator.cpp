@@ -39,7 +39,8 @@ void add_support(std::vector<LayerToolpaths>& layers, const SupportSettings& s, 
     if (wanted.empty()) continue;
     carried = drop_small(difference_of(union_of(wanted), offset(layers[i].region, s.xy_gap)), s.min_area);
     for (const Polyline& line : rectilinear_infill(carried, s.spacing, 0))
-      if (line.size() >= 2) layers[i].paths.insert(layers[i].paths.begin(), {line, false, s.line_width, ExtrusionRole::support});
+      if (line.size() >= 2)
+        layers[i].paths.insert(layers[i].paths.begin(), {line, false, s.line_width, ExtrusionRole::support});
   }
 }
 

@@ -14,7 +14,7 @@ struct ExtrusionPath {
   bool closed = false;  // a loop: the last point joins the first
   double width = 0.45;  // mm
   ExtrusionRole role = ExtrusionRole::perimeter;
-  double height = 0;    // mm of material it lays down; 0: the layer's height (more where infill is combined)
+  double height = 0;  // mm of material it lays down; 0: the layer's height (more where infill is combined)
 
   double length() const;
 };
@@ -32,13 +32,13 @@ struct LayerToolpaths {
 };
 
 struct ToolpathSettings {
-  double line_width = 0.45;        // mm
+  double line_width = 0.45;  // mm
   int walls = 2;
-  double top_thickness = 0.8;      // mm of solid skin under a top surface, whatever the layer heights
-  double bottom_thickness = 0.8;   // mm of solid skin over a bottom surface
-  double infill_density = 0.2;     // 0..1, rectilinear
-  double skirt_distance = 3;       // mm from the first layer's outline; 0 for no skirt
-  double max_gap = 3.0;            // mm: open section chains closed up to this gap
+  double top_thickness = 0.8;     // mm of solid skin under a top surface, whatever the layer heights
+  double bottom_thickness = 0.8;  // mm of solid skin over a bottom surface
+  double infill_density = 0.2;    // 0..1, rectilinear
+  double skirt_distance = 3;      // mm from the first layer's outline; 0 for no skirt
+  double max_gap = 3.0;           // mm: open section chains closed up to this gap
   // Sparse infill is printed once for as many thin layers as fit under this height (mm), where
   // all of them have sparse infill (Sabourin 1996's fast interior, the paper's solid option);
   // 0 prints it on every layer.

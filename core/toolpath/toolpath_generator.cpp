@@ -32,16 +32,18 @@ void add_lines(const Polylines& lines, double width, ExtrusionRole role, LayerTo
 Polygons covered_by(const std::vector<Polygons>& regions, std::size_t first, std::size_t last) {
   if (first > last || last >= regions.size()) return {};
   Polygons covered = regions[first];
-  for (std::size_t j = first + 1; j <= last && !covered.empty(); ++j) covered = intersection_of(covered, regions[j]);
+  for (std::size_t j = first + 1; j <= last && !covered.empty(); ++j)
+    covered = intersection_of(covered, regions[j]);
   return covered;
 }
 
-void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std::vector<double>& z, const ToolpathSettings& s,
-                 std::vector<LayerToolpaths>& out) {
+void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std::vector<double>& z,
+                 const ToolpathSettings& s, std::vector<LayerToolpaths>& out) {
   const std::size_t n = out.size();
   const double w = s.line_width;
   LayerToolpaths& layer = out[i];
-  if (i == 0 && s.skirt_distance > 0) add_loops(union_of(offset(regions[0], s.skirt_distance)), w, ExtrusionRole::skirt, layer);
+  if (i == 0 && s.skirt_distance > 0)
+    add_loops(union_of(offset(regions[0], s.skirt_distance)), w, ExtrusionRole::skirt, layer);
   const double spacing = w - layer.height() * (1 - M_PI / 4);
   // Walls, outermost last (it is printed onto the inner ones' support).
   Polygons inner = regions[i];
@@ -84,13 +86,15 @@ void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std:
 // where every layer of a group has sparse infill it is printed once, on the group's top layer,
 // as thick as the group; elsewhere each layer prints its own. Rectilinear at 45°/135° by group,
 // so the lines of successive groups cross.
-void add_sparse_infill(std::vector<LayerToolpaths>& layers, const ToolpathSettings& s, const RunContext& run) {
+void add_sparse_infill(std::vector<LayerToolpaths>& layers, const ToolpathSettings& s,
+                       const RunContext& run) {
   if (!(s.infill_density > 0)) return;
   std::vector<std::pair<std::size_t, std::size_t>> groups;  // [first, last]
   for (std::size_t i = 0; i < layers.size();) {
     std::size_t j = i;
     double h = layers[i].height();
-    while (j + 1 < layers.size() && h + layers[j + 1].height() <= s.combine_infill_up_to + 1e-9) h += layers[++j].height();
+    while (j + 1 < layers.size() && h + layers[j + 1].height() <= s.combine_infill_up_to + 1e-9)
+      h += layers[++j].height();
     groups.emplace_back(i, j);
     i = j + 1;
   }
@@ -100,19 +104,22 @@ void add_sparse_infill(std::vector<LayerToolpaths>& layers, const ToolpathSettin
     const double angle = (g % 2 == 0 ? 45.0 : 135.0) * M_PI / 180;
     const double w = s.line_width;
     Polygons common = layers[first].sparse;
-    for (std::size_t k = first + 1; k <= last && !common.empty(); ++k) common = intersection_of(common, layers[k].sparse);
+    for (std::size_t k = first + 1; k <= last && !common.empty(); ++k)
+      common = intersection_of(common, layers[k].sparse);
     if (first == last) common.clear();
     for (std::size_t k = first; k <= last; ++k) {
       LayerToolpaths& layer = layers[k];
       const Polygons own = common.empty() ? layer.sparse : difference_of(layer.sparse, common);
       const double spacing = w - layer.height() * (1 - M_PI / 4);
-      add_lines(rectilinear_infill(own, spacing / s.infill_density, angle), w, ExtrusionRole::sparse_infill, layer);
+      add_lines(rectilinear_infill(own, spacing / s.infill_density, angle), w, ExtrusionRole::sparse_infill,
+                layer);
     }
     if (common.empty()) return;
     LayerToolpaths& top = layers[last];
     const double h = top.z_top - layers[first].z_bottom;
     const std::size_t before = top.paths.size();
-    add_lines(rectilinear_infill(common, (w - h * (1 - M_PI / 4)) / s.infill_density, angle), w, ExtrusionRole::sparse_infill, top);
+    add_lines(rectilinear_infill(common, (w - h * (1 - M_PI / 4)) / s.infill_density, angle), w,
+              ExtrusionRole::sparse_infill, top);
     for (std::size_t p = before; p < top.paths.size(); ++p) top.paths[p].height = h;
   });
 }
@@ -123,8 +130,8 @@ namespace {
 
 // Layers [first, last) of `z`'s layers are built; the others are context only (a region's slab
 // inside the model: what lies above and below it decides where its skins go).
-std::vector<LayerToolpaths> build_layers(const Mesh& mesh, const std::vector<double>& z, std::size_t first, std::size_t last,
-                                         const ToolpathSettings& s, const RunContext& run) {
+std::vector<LayerToolpaths> build_layers(const Mesh& mesh, const std::vector<double>& z, std::size_t first,
+                                         std::size_t last, const ToolpathSettings& s, const RunContext& run) {
   const std::size_t n = z.size() < 2 ? 0 : z.size() - 1;
   std::vector<double> mid(n);
   for (std::size_t i = 0; i < n; ++i) mid[i] = 0.5 * (z[i] + z[i + 1]);
@@ -134,7 +141,8 @@ std::vector<LayerToolpaths> build_layers(const Mesh& mesh, const std::vector<dou
   std::vector<Polygons> regions(n);  // the layer's solid area
   std::vector<LayerToolpaths> out(n);
   for (std::size_t i = 0; i < n; ++i) {
-    regions[i] = s.clip.empty() ? union_of(sections[i].loops) : intersection_of(union_of(sections[i].loops), s.clip);
+    regions[i] =
+        s.clip.empty() ? union_of(sections[i].loops) : intersection_of(union_of(sections[i].loops), s.clip);
     out[i].region = regions[i];
     out[i].z_bottom = z[i];
     out[i].z_top = z[i + 1];
@@ -165,14 +173,16 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
   return build_layers(mesh, z, 0, z.size() < 2 ? 0 : z.size() - 1, s, run);
 }
 
-std::vector<LayerToolpaths> generate_region_toolpaths(const Mesh& mesh, const std::vector<double>& z, double model_height,
-                                                      const ToolpathSettings& s, const RunContext& run) {
+std::vector<LayerToolpaths> generate_region_toolpaths(const Mesh& mesh, const std::vector<double>& z,
+                                                      double model_height, const ToolpathSettings& s,
+                                                      const RunContext& run) {
   if (z.size() < 2) return {};
   // Context layers as thick as the region's outermost ones, through the skin thickness (to the
   // bed and to the model's top at most).
   std::vector<double> below, above;
   const double h_low = z[1] - z[0], h_high = z.back() - z[z.size() - 2];
-  for (double b = z.front(); b > 1e-9 && z.front() - b < s.bottom_thickness - 1e-9;) below.push_back(b = std::max(0.0, b - h_low));
+  for (double b = z.front(); b > 1e-9 && z.front() - b < s.bottom_thickness - 1e-9;)
+    below.push_back(b = std::max(0.0, b - h_low));
   for (double t = z.back(); t < model_height - 1e-9 && t - z.back() < s.top_thickness - 1e-9;)
     above.push_back(t = std::min(model_height, t + h_high));
   std::vector<double> all(below.rbegin(), below.rend());
@@ -188,7 +198,8 @@ std::vector<LayerToolpaths> merge_by_print_height(const std::vector<std::vector<
   for (const auto& region : regions)
     for (const LayerToolpaths& layer : region)
       if (!layer.paths.empty()) all.push_back(&layer);  // a region's layer above its part of the model
-  std::stable_sort(all.begin(), all.end(), [](const LayerToolpaths* a, const LayerToolpaths* b) { return a->z_top < b->z_top; });
+  std::stable_sort(all.begin(), all.end(),
+                   [](const LayerToolpaths* a, const LayerToolpaths* b) { return a->z_top < b->z_top; });
   std::vector<LayerToolpaths> out;
   constexpr double same = 1e-6;  // mm: tops closer than this are one printed layer
   for (const LayerToolpaths* layer : all) {
@@ -216,7 +227,8 @@ std::vector<LayerToolpaths> merge_by_print_height(const std::vector<std::vector<
 void add_skirt(std::vector<LayerToolpaths>& layers, const ToolpathSettings& s) {
   if (layers.empty() || !(s.skirt_distance > 0)) return;
   LayerToolpaths skirt;
-  add_loops(union_of(offset(layers.front().region, s.skirt_distance)), s.line_width, ExtrusionRole::skirt, skirt);
+  add_loops(union_of(offset(layers.front().region, s.skirt_distance)), s.line_width, ExtrusionRole::skirt,
+            skirt);
   auto& paths = layers.front().paths;
   paths.insert(paths.begin(), skirt.paths.begin(), skirt.paths.end());
 }

@@ -20,8 +20,9 @@ std::vector<LayerToolpaths> generate_toolpaths(const Mesh& mesh, const std::vect
 // The layers `z` (boundaries, mm) of one region of a segmented plan: a slab of the model between
 // z.front() and z.back(), cut to settings.clip. What the model has above and below the slab (up to
 // `model_height`) decides where the region's skins go, as if it were sliced whole.
-std::vector<LayerToolpaths> generate_region_toolpaths(const Mesh& mesh, const std::vector<double>& z, double model_height,
-                                                      const ToolpathSettings& settings, const RunContext& run = {});
+std::vector<LayerToolpaths> generate_region_toolpaths(const Mesh& mesh, const std::vector<double>& z,
+                                                      double model_height, const ToolpathSettings& settings,
+                                                      const RunContext& run = {});
 
 // Multi-region plans (paper §5 and §7): each region is sliced with its own layers; the layers
 // of all regions are merged by print height — one printed layer per distinct top z, holding

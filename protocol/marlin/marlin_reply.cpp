@@ -14,7 +14,9 @@ std::string_view trim(std::string_view s) {
   return s;
 }
 
-bool starts_with(std::string_view s, std::string_view p) { return s.substr(0, p.size()) == p; }
+bool starts_with(std::string_view s, std::string_view p) {
+  return s.substr(0, p.size()) == p;
+}
 
 std::optional<double> number_after(std::string_view s, std::size_t at) {
   while (at < s.size() && s[at] == ' ') ++at;
@@ -41,7 +43,8 @@ Temperatures parse_temperatures(std::string_view s) {
       value = number_after(s, at + key.size());
       const std::size_t slash = s.find('/', at + key.size());
       const std::size_t next = s.find(' ', at + key.size() + 1);
-      if (slash != std::string_view::npos && (next == std::string_view::npos || slash <= next + 1)) target = number_after(s, slash + 1);
+      if (slash != std::string_view::npos && (next == std::string_view::npos || slash <= next + 1))
+        target = number_after(s, slash + 1);
       return;
     }
   };
@@ -88,7 +91,8 @@ MarlinReply parse_reply(std::string_view raw) {
   }
   if (starts_with(s, "Error:") || starts_with(s, "!!")) {
     r.kind = ReplyKind::error;
-    for (std::string_view fatal : {"halted", "kill()", "Thermal Runaway", "Heating failed", "MINTEMP", "MAXTEMP", "!!"})
+    for (std::string_view fatal :
+         {"halted", "kill()", "Thermal Runaway", "Heating failed", "MINTEMP", "MAXTEMP", "!!"})
       if (s.find(fatal) != std::string_view::npos) r.fatal = true;
     return r;
   }
@@ -100,7 +104,8 @@ MarlinReply parse_reply(std::string_view raw) {
   if (starts_with(s, "FIRMWARE_NAME:")) {
     r.kind = ReplyKind::firmware;
     const std::size_t end = s.find(" SOURCE_CODE_URL");
-    r.name = std::string(trim(s.substr(14, end == std::string_view::npos ? std::string_view::npos : end - 14)));
+    r.name =
+        std::string(trim(s.substr(14, end == std::string_view::npos ? std::string_view::npos : end - 14)));
     return r;
   }
   if (starts_with(s, "Cap:")) {

@@ -28,13 +28,13 @@ struct Temperatures {
 
 struct MarlinReply {
   ReplyKind kind = ReplyKind::other;
-  std::string text;                          // the line, trimmed
-  std::optional<long long> line;             // resend target, or ADVANCED_OK's N
+  std::string text;                              // the line, trimmed
+  std::optional<long long> line;                 // resend target, or ADVANCED_OK's N
   std::optional<int> planner_free, buffer_free;  // ADVANCED_OK's P and B
-  Temperatures temperatures;                 // when the line carries T:/B:
-  std::string name;                          // firmware name, capability name, or host action
-  bool enabled = false;                      // capability value
-  bool fatal = false;                        // an error after which the firmware halts
+  Temperatures temperatures;                     // when the line carries T:/B:
+  std::string name;                              // firmware name, capability name, or host action
+  bool enabled = false;                          // capability value
+  bool fatal = false;                            // an error after which the firmware halts
 };
 
 MarlinReply parse_reply(std::string_view line);

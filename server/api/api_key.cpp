@@ -29,10 +29,12 @@ ApiKey ensure_api_key(Store& store) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
   if (fd < 0) throw StoreError(path.string() + ": cannot write the API key");
   const std::string line = key + "\n";
-  const bool ok = ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size()) && ::fsync(fd) == 0;
+  const bool ok =
+      ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size()) && ::fsync(fd) == 0;
   ::close(fd);
   if (!ok) throw StoreError(path.string() + ": cannot write the API key");
-  const double now = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const double now =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   store.db()
       .prepare("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', ?)")
       .bind(1, std::string_view(sha256_hex(key)))

@@ -11,7 +11,7 @@
 namespace salient::server {
 
 struct ApiKey {
-  std::string key;   // only when it was made now (to show once); else empty
+  std::string key;  // only when it was made now (to show once); else empty
   bool created = false;
 };
 

@@ -5,37 +5,57 @@
 
 namespace salient::server {
 
-void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers, const EventHub& hub) {
-  router.add("GET", "/metrics", Access::key, [&metrics, &store, &printers, &hub](const HttpRequest&, const PathParams&) {
-    std::string out = metrics.render();
-    JobStore jobs(store.db());
-    out += "# HELP salient_jobs Jobs in the database, by state.\n# TYPE salient_jobs gauge\n";
-    for (JobState s : {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
-      out += "salient_jobs{state=\"" + std::string(to_string(s)) + "\"} " + std::to_string(jobs.count(s)) + "\n";
-    out += "# HELP salient_job_queue_length Jobs waiting for a worker.\n# TYPE salient_job_queue_length gauge\n";
-    out += "salient_job_queue_length " + std::to_string(jobs.count(JobState::queued)) + "\n";
-    out += "# HELP salient_print_lines_total G-code commands acknowledged by printers.\n# TYPE salient_print_lines_total counter\n";
-    std::string resent, prints, up;
-    for (const auto& p : printers.all()) {
-      const PrinterCounters c = p->counters();
-      const std::string label = "{printer=\"" + prometheus_label(p->id()) + "\"}";
-      out += "salient_print_lines_total" + label + " " + std::to_string(c.lines_sent) + "\n";
-      resent += "salient_print_resends_total" + label + " " + std::to_string(c.lines_resent) + "\n";
-      prints += "salient_prints_total{printer=\"" + prometheus_label(p->id()) + "\",result=\"finished\"} " +
-                std::to_string(c.prints_finished) + "\n";
-      prints += "salient_prints_total{printer=\"" + prometheus_label(p->id()) + "\",result=\"failed\"} " +
-                std::to_string(c.prints_failed) + "\n";
-      const std::string state = p->state();
-      up += "salient_printer_connected" + label + " " +
-            (state == "disconnected" || state == "error" || state == "connecting" ? "0" : "1") + "\n";
-    }
-    out += "# HELP salient_print_resends_total Lines sent again at the printer's request.\n# TYPE salient_print_resends_total counter\n" + resent;
-    out += "# HELP salient_prints_total Prints that ended, by result.\n# TYPE salient_prints_total counter\n" + prints;
-    out += "# HELP salient_printer_connected 1 when the printer's link is up.\n# TYPE salient_printer_connected gauge\n" + up;
-    out += "# HELP salient_event_subscribers WebSocket clients connected to /api/v1/events.\n# TYPE salient_event_subscribers gauge\n";
-    out += "salient_event_subscribers " + std::to_string(hub.subscribers()) + "\n";
-    return HttpResponse::text(200, std::move(out), "text/plain; version=0.0.4; charset=utf-8");
-  });
+void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
+                       const EventHub& hub) {
+  router.add(
+      "GET", "/metrics", Access::key,
+      [&metrics, &store, &printers, &hub](const HttpRequest&, const PathParams&) {
+        std::string out = metrics.render();
+        JobStore jobs(store.db());
+        out += "# HELP salient_jobs Jobs in the database, by state.\n# TYPE salient_jobs gauge\n";
+        for (JobState s :
+             {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
+          out += "salient_jobs{state=\"" + std::string(to_string(s)) + "\"} " +
+                 std::to_string(jobs.count(s)) + "\n";
+        out +=
+            "# HELP salient_job_queue_length Jobs waiting for a worker.\n# TYPE salient_job_queue_length "
+            "gauge\n";
+        out += "salient_job_queue_length " + std::to_string(jobs.count(JobState::queued)) + "\n";
+        out +=
+            "# HELP salient_print_lines_total G-code commands acknowledged by printers.\n# TYPE "
+            "salient_print_lines_total counter\n";
+        std::string resent, prints, up;
+        for (const auto& p : printers.all()) {
+          const PrinterCounters c = p->counters();
+          const std::string label = "{printer=\"" + prometheus_label(p->id()) + "\"}";
+          out += "salient_print_lines_total" + label + " " + std::to_string(c.lines_sent) + "\n";
+          resent += "salient_print_resends_total" + label + " " + std::to_string(c.lines_resent) + "\n";
+          prints += "salient_prints_total{printer=\"" + prometheus_label(p->id()) +
+                    "\",result=\"finished\"} " + std::to_string(c.prints_finished) + "\n";
+          prints += "salient_prints_total{printer=\"" + prometheus_label(p->id()) + "\",result=\"failed\"} " +
+                    std::to_string(c.prints_failed) + "\n";
+          const std::string state = p->state();
+          up += "salient_printer_connected" + label + " " +
+                (state == "disconnected" || state == "error" || state == "connecting" ? "0" : "1") + "\n";
+        }
+        out +=
+            "# HELP salient_print_resends_total Lines sent again at the printer's request.\n# TYPE "
+            "salient_print_resends_total counter\n" +
+            resent;
+        out +=
+            "# HELP salient_prints_total Prints that ended, by result.\n# TYPE salient_prints_total "
+            "counter\n" +
+            prints;
+        out +=
+            "# HELP salient_printer_connected 1 when the printer's link is up.\n# TYPE "
+            "salient_printer_connected gauge\n" +
+            up;
+        out +=
+            "# HELP salient_event_subscribers WebSocket clients connected to /api/v1/events.\n# TYPE "
+            "salient_event_subscribers gauge\n";
+        out += "salient_event_subscribers " + std::to_string(hub.subscribers()) + "\n";
+        return HttpResponse::text(200, std::move(out), "text/plain; version=0.0.4; charset=utf-8");
+      });
 }
 
 }  // namespace salient::server

@@ -24,7 +24,8 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
 // OctoPrint's API as slicers use it: /api/files/local, /api/job, /api/printer, /api/settings…
 void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config);
 // /metrics (Prometheus text).
-void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers, const EventHub& hub);
+void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
+                       const EventHub& hub);
 
 // The WebSocket /api/v1/events (keyed; ?topics=a,b subscribes at once), and 426 for a plain GET.
 void add_event_route(Router& router);

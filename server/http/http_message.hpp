@@ -11,9 +11,9 @@
 namespace salient::server {
 
 struct HttpRequest {
-  std::string method;  // "GET", "POST", …
-  std::string target;  // as sent: path and query
-  std::string path;    // percent-decoded, without the query
+  std::string method;                          // "GET", "POST", …
+  std::string target;                          // as sent: path and query
+  std::string path;                            // percent-decoded, without the query
   std::map<std::string, std::string> query;    // decoded
   std::map<std::string, std::string> headers;  // names in lower case
   std::string body;
@@ -29,7 +29,8 @@ struct HttpResponse {
   std::string body;
   std::vector<std::pair<std::string, std::string>> headers;
 
-  static HttpResponse text(int status, std::string body, std::string content_type = "text/plain; charset=utf-8");
+  static HttpResponse text(int status, std::string body,
+                           std::string content_type = "text/plain; charset=utf-8");
 };
 
 // Splits "/a%20b?x=1&y" into its decoded path and query parameters; false when the

@@ -12,12 +12,14 @@ enum class JobState { queued, running, done, failed, cancelled };
 
 std::string_view to_string(JobState s);
 std::optional<JobState> job_state_from(std::string_view s);
-inline bool finished(JobState s) { return s == JobState::done || s == JobState::failed || s == JobState::cancelled; }
+inline bool finished(JobState s) {
+  return s == JobState::done || s == JobState::failed || s == JobState::cancelled;
+}
 
 struct Job {
   std::string id;
   JobState state = JobState::queued;
-  std::string phase;  // empty until it runs
+  std::string phase;    // empty until it runs
   double progress = 0;  // 0..1 within the whole job
   std::string filename, model_digest;
   std::string settings, settings_digest;  // settings as canonical JSON text

@@ -7,9 +7,12 @@ namespace salient::server {
 std::string prometheus_label(const std::string& value) {
   std::string out;
   for (char c : value) {
-    if (c == '\\' || c == '"') out += '\\', out += c;
-    else if (c == '\n') out += "\\n";
-    else out += c;
+    if (c == '\\' || c == '"')
+      out += '\\', out += c;
+    else if (c == '\n')
+      out += "\\n";
+    else
+      out += c;
   }
   return out;
 }
@@ -46,8 +49,9 @@ std::string Metrics::render() const {
   out += "# TYPE salient_http_requests_total counter\n";
   for (const auto& [key, n] : requests_) {
     const auto& [method, route, status] = key;
-    out += "salient_http_requests_total{method=\"" + prometheus_label(method) + "\",route=\"" + prometheus_label(route) +
-           "\",status=\"" + std::to_string(status) + "\"} " + std::to_string(n) + "\n";
+    out += "salient_http_requests_total{method=\"" + prometheus_label(method) + "\",route=\"" +
+           prometheus_label(route) + "\",status=\"" + std::to_string(status) + "\"} " + std::to_string(n) +
+           "\n";
   }
   out += "# HELP salient_http_request_seconds Time to answer HTTP requests, by route pattern.\n";
   out += "# TYPE salient_http_request_seconds summary\n";

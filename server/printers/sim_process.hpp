@@ -3,8 +3,9 @@
 // stopped (SIGTERM, then SIGKILL) when this object goes.
 #pragma once
 
-#include <string>
 #include <sys/types.h>
+
+#include <string>
 #include <vector>
 
 namespace salient::server {

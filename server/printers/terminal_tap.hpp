@@ -15,7 +15,8 @@ namespace salient::server {
 class TerminalTap : public protocol::serial::Transport {
  public:
   using LineFn = std::function<void(bool sent, std::string_view line)>;
-  TerminalTap(std::unique_ptr<protocol::serial::Transport> inner, std::function<bool()> wanted, LineFn on_line)
+  TerminalTap(std::unique_ptr<protocol::serial::Transport> inner, std::function<bool()> wanted,
+              LineFn on_line)
       : inner_(std::move(inner)), wanted_(std::move(wanted)), on_line_(std::move(on_line)) {}
 
   void write(std::string_view bytes) override {

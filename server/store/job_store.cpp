@@ -6,7 +6,8 @@ namespace salient::server {
 namespace {
 
 constexpr const char* columns =
-    "id, state, phase, progress, filename, model_digest, settings, settings_digest, error, result, attempts, created_at, "
+    "id, state, phase, progress, filename, model_digest, settings, settings_digest, error, result, attempts, "
+    "created_at, "
     "started_at, finished_at";
 
 Job read_job(const Database::Statement& q) {
@@ -41,23 +42,29 @@ std::string new_id() {
 
 std::string_view to_string(JobState s) {
   switch (s) {
-    case JobState::queued: return "queued";
-    case JobState::running: return "running";
-    case JobState::done: return "done";
-    case JobState::failed: return "failed";
-    case JobState::cancelled: return "cancelled";
+    case JobState::queued:
+      return "queued";
+    case JobState::running:
+      return "running";
+    case JobState::done:
+      return "done";
+    case JobState::failed:
+      return "failed";
+    case JobState::cancelled:
+      return "cancelled";
   }
   return "failed";
 }
 
 std::optional<JobState> job_state_from(std::string_view s) {
-  for (JobState v : {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
+  for (JobState v :
+       {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
     if (to_string(v) == s) return v;
   return std::nullopt;
 }
 
-Job JobStore::create(const std::string& filename, const std::string& model_digest, const std::string& settings,
-                     const std::string& settings_digest, double now) {
+Job JobStore::create(const std::string& filename, const std::string& model_digest,
+                     const std::string& settings, const std::string& settings_digest, double now) {
   Job j;
   j.id = new_id();
   j.filename = filename;
@@ -65,8 +72,9 @@ Job JobStore::create(const std::string& filename, const std::string& model_diges
   j.settings = settings;
   j.settings_digest = settings_digest;
   j.created_at = now;
-  db_.prepare("INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
-              "VALUES (?, 'queued', ?, ?, ?, ?, ?)")
+  db_.prepare(
+         "INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
+         "VALUES (?, 'queued', ?, ?, ?, ?, ?)")
       .bind(1, std::string_view(j.id))
       .bind(2, std::string_view(filename))
       .bind(3, std::string_view(model_digest))
@@ -89,8 +97,10 @@ std::optional<Job> JobStore::get(const std::string& id) {
 std::vector<Job> JobStore::list(std::optional<JobState> state, int limit, int offset) {
   auto q = db_.prepare(std::string("SELECT ") + columns + " FROM jobs WHERE (?1 IS NULL OR state = ?1) " +
                        "ORDER BY created_at DESC, rowid DESC LIMIT ?2 OFFSET ?3");
-  if (state) q.bind(1, to_string(*state));
-  else q.bind_null(1);
+  if (state)
+    q.bind(1, to_string(*state));
+  else
+    q.bind_null(1);
   q.bind(2, static_cast<std::int64_t>(limit)).bind(3, static_cast<std::int64_t>(offset));
   std::vector<Job> out;
   while (q.step()) out.push_back(read_job(q));
@@ -99,8 +109,10 @@ std::vector<Job> JobStore::list(std::optional<JobState> state, int limit, int of
 
 long long JobStore::count(std::optional<JobState> state) {
   auto q = db_.prepare("SELECT count(*) FROM jobs WHERE (?1 IS NULL OR state = ?1)");
-  if (state) q.bind(1, to_string(*state));
-  else q.bind_null(1);
+  if (state)
+    q.bind(1, to_string(*state));
+  else
+    q.bind_null(1);
   q.step();
   const long long n = q.integer(0);
   q.run();
@@ -109,11 +121,14 @@ long long JobStore::count(std::optional<JobState> state) {
 
 std::optional<Job> JobStore::start_next(double now) {
   Database::Transaction t(db_);
-  auto q = db_.prepare(std::string("SELECT ") + columns + " FROM jobs WHERE state = 'queued' ORDER BY created_at, rowid LIMIT 1");
+  auto q = db_.prepare(std::string("SELECT ") + columns +
+                       " FROM jobs WHERE state = 'queued' ORDER BY created_at, rowid LIMIT 1");
   if (!q.step()) return std::nullopt;
   Job j = read_job(q);
   q.run();
-  db_.prepare("UPDATE jobs SET state = 'running', attempts = attempts + 1, started_at = ?, phase = 'load', progress = 0 WHERE id = ?")
+  db_.prepare(
+         "UPDATE jobs SET state = 'running', attempts = attempts + 1, started_at = ?, phase = 'load', "
+         "progress = 0 WHERE id = ?")
       .bind(1, now)
       .bind(2, std::string_view(j.id))
       .run();
@@ -134,8 +149,10 @@ void JobStore::set_progress(const std::string& id, const std::string& phase, dou
 
 bool JobStore::finish(const std::string& id, JobState state, const std::optional<std::string>& error,
                       const std::optional<std::string>& result, double now) {
-  db_.prepare("UPDATE jobs SET state = ?, error = ?, result = ?, finished_at = ?, progress = CASE WHEN ? = 'done' THEN 1 "
-              "ELSE progress END WHERE id = ? AND state IN ('queued', 'running')")
+  db_.prepare(
+         "UPDATE jobs SET state = ?, error = ?, result = ?, finished_at = ?, progress = CASE WHEN ? = 'done' "
+         "THEN 1 "
+         "ELSE progress END WHERE id = ? AND state IN ('queued', 'running')")
       .bind(1, to_string(state))
       .bind(2, error)
       .bind(3, result)

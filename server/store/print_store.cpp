@@ -29,9 +29,11 @@ StoredFile read_file(const Database::Statement& q) {
 }  // namespace
 
 PrintRecord PrintStore::create(const std::string& printer_id, const std::optional<std::string>& job_id,
-                               const std::string& digest, const std::string& filename, long long total, double now) {
+                               const std::string& digest, const std::string& filename, long long total,
+                               double now) {
   db_.prepare(
-         "INSERT INTO prints (printer_id, job_id, file_digest, filename, state, confirmed, total, started_at) "
+         "INSERT INTO prints (printer_id, job_id, file_digest, filename, state, confirmed, total, "
+         "started_at) "
          "VALUES (?, ?, ?, ?, 'printing', 0, ?, ?)")
       .bind(1, std::string_view(printer_id))
       .bind(2, job_id)
@@ -51,8 +53,8 @@ void PrintStore::set_progress(long long id, const std::string& state, long long 
       .run();
 }
 
-void PrintStore::finish(long long id, const std::string& state, long long confirmed, const std::optional<std::string>& reason,
-                        double now) {
+void PrintStore::finish(long long id, const std::string& state, long long confirmed,
+                        const std::optional<std::string>& reason, double now) {
   db_.prepare("UPDATE prints SET state = ?, confirmed = ?, reason = ?, finished_at = ? WHERE id = ?")
       .bind(1, std::string_view(state))
       .bind(2, static_cast<std::int64_t>(confirmed))
@@ -78,7 +80,8 @@ std::optional<PrintRecord> PrintStore::latest(const std::string& printer_id) {
 }
 
 std::vector<PrintRecord> PrintStore::list(const std::string& printer_id, int limit) {
-  auto q = db_.prepare(std::string("SELECT ") + columns + " FROM prints WHERE printer_id = ? ORDER BY id DESC LIMIT ?");
+  auto q = db_.prepare(std::string("SELECT ") + columns +
+                       " FROM prints WHERE printer_id = ? ORDER BY id DESC LIMIT ?");
   q.bind(1, std::string_view(printer_id)).bind(2, static_cast<std::int64_t>(limit));
   std::vector<PrintRecord> out;
   while (q.step()) out.push_back(read_print(q));
@@ -87,7 +90,8 @@ std::vector<PrintRecord> PrintStore::list(const std::string& printer_id, int lim
 
 int PrintStore::mark_interrupted(double now) {
   db_.prepare(
-         "UPDATE prints SET state = 'interrupted', reason = 'the daemon stopped during the print', finished_at = ? "
+         "UPDATE prints SET state = 'interrupted', reason = 'the daemon stopped during the print', "
+         "finished_at = ? "
          "WHERE finished_at IS NULL")
       .bind(1, now)
       .run();
@@ -97,7 +101,8 @@ int PrintStore::mark_interrupted(double now) {
 void PrintStore::put_file(const std::string& name, const std::string& digest, long long size, double now) {
   db_.prepare(
          "INSERT INTO files (name, digest, size, uploaded_at) VALUES (?, ?, ?, ?) "
-         "ON CONFLICT (name) DO UPDATE SET digest = excluded.digest, size = excluded.size, uploaded_at = excluded.uploaded_at")
+         "ON CONFLICT (name) DO UPDATE SET digest = excluded.digest, size = excluded.size, uploaded_at = "
+         "excluded.uploaded_at")
       .bind(1, std::string_view(name))
       .bind(2, std::string_view(digest))
       .bind(3, static_cast<std::int64_t>(size))

@@ -33,11 +33,11 @@ class PrintStore {
  public:
   explicit PrintStore(Database& db) : db_(db) {}
 
-  PrintRecord create(const std::string& printer_id, const std::optional<std::string>& job_id, const std::string& digest,
-                     const std::string& filename, long long total, double now);
+  PrintRecord create(const std::string& printer_id, const std::optional<std::string>& job_id,
+                     const std::string& digest, const std::string& filename, long long total, double now);
   void set_progress(long long id, const std::string& state, long long confirmed);
-  void finish(long long id, const std::string& state, long long confirmed, const std::optional<std::string>& reason,
-              double now);
+  void finish(long long id, const std::string& state, long long confirmed,
+              const std::optional<std::string>& reason, double now);
   std::optional<PrintRecord> get(long long id);
   std::optional<PrintRecord> latest(const std::string& printer_id);
   std::vector<PrintRecord> list(const std::string& printer_id, int limit);

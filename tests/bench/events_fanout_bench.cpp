@@ -48,7 +48,8 @@ struct Subscriber : std::enable_shared_from_this<Subscriber> {
       if (m["type"] == "subscribed") self->subscribed = true;
       if (m["type"] == "job") {
         const json& d = m["data"];
-        const std::string step = d["state"].get<std::string>() + (d["state"] == "running" ? "/" + d["phase"].get<std::string>() : "");
+        const std::string step = d["state"].get<std::string>() +
+                                 (d["state"] == "running" ? "/" + d["phase"].get<std::string>() : "");
         auto& s = self->steps[d["id"].get<std::string>()];
         if (s.empty() || s.back() != step) s.push_back(step);
         if (d["state"] == "done") ++self->done, self->last = Clock::now();
@@ -73,7 +74,8 @@ int main(int argc, char** argv) {
   for (int i = 0; i < n; ++i) {
     auto s = std::make_shared<Subscriber>(io);
     beast::get_lowest_layer(s->ws).connect(endpoints);
-    s->ws.set_option(websocket::stream_base::decorator([key](websocket::request_type& r) { r.set("X-Api-Key", key); }));
+    s->ws.set_option(
+        websocket::stream_base::decorator([key](websocket::request_type& r) { r.set("X-Api-Key", key); }));
     s->ws.handshake(host, "/api/v1/events");
     s->ws.write(asio::buffer(std::string(R"({"subscribe": ["jobs"]})")));
     subs.push_back(s);
@@ -90,7 +92,8 @@ int main(int argc, char** argv) {
     beast::tcp_stream stream(io);
     stream.connect(endpoints);
     const std::string settings = "%7B%22height%22%3A" + std::to_string(10 + j) + "%7D";
-    http::request<http::string_body> req(http::verb::post, "/api/v1/jobs?filename=" + name + "&settings=" + settings, 11);
+    http::request<http::string_body> req(http::verb::post,
+                                         "/api/v1/jobs?filename=" + name + "&settings=" + settings, 11);
     req.set(http::field::host, host);
     req.set("X-Api-Key", key);
     req.body() = bytes.str();
@@ -105,11 +108,13 @@ int main(int argc, char** argv) {
     }
   }
   const auto deadline = Clock::now() + std::chrono::minutes(5);
-  while (Clock::now() < deadline && !std::all_of(subs.begin(), subs.end(), [&](const auto& s) { return s->done >= jobs; }))
+  while (Clock::now() < deadline &&
+         !std::all_of(subs.begin(), subs.end(), [&](const auto& s) { return s->done >= jobs; }))
     io.run_one_for(std::chrono::milliseconds(100));
 
   // Every subscriber's steps for every job must be the full sequence, in order.
-  const std::vector<std::string> want = {"queued", "running/load", "running/saliency", "running/plan", "running/toolpaths", "done"};
+  const std::vector<std::string> want = {"queued",       "running/load",      "running/saliency",
+                                         "running/plan", "running/toolpaths", "done"};
   int complete = 0;
   long long messages = 0, changes = 0;
   double slowest = 0;
@@ -123,8 +128,10 @@ int main(int argc, char** argv) {
     messages += s->messages;
     slowest = std::max(slowest, std::chrono::duration<double>(s->last - t0).count());
   }
-  std::printf("subscribers %d, jobs %d: %d of %d saw all %zu state changes of every job in order "
-              "(%lld state changes, %lld messages in all incl. progress); last 'done' delivered %.2f s after the first submit\n",
-              n, jobs, complete, n, want.size(), changes, messages, slowest);
+  std::printf(
+      "subscribers %d, jobs %d: %d of %d saw all %zu state changes of every job in order "
+      "(%lld state changes, %lld messages in all incl. progress); last 'done' delivered %.2f s after the "
+      "first submit\n",
+      n, jobs, complete, n, want.size(), changes, messages, slowest);
   return complete == n ? 0 : 1;
 }

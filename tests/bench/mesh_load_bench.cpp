@@ -30,8 +30,10 @@ int main(int argc, char** argv) {
   int runs = 7;
   std::vector<std::string> models;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else models.emplace_back(argv[i]);
+    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+      runs = std::max(1, std::atoi(argv[++i]));
+    else
+      models.emplace_back(argv[i]);
   }
   if (models.empty()) {
     std::fprintf(stderr, "usage: mesh_load_bench [--runs N] MODEL...\n");

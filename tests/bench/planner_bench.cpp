@@ -37,14 +37,17 @@ int main(int argc, char** argv) {
   Metric metric = Metric::area;
   std::vector<std::string> models;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc) runs = std::max(1, std::atoi(argv[++i]));
-    else if (std::strcmp(argv[i], "--metric") == 0 && i + 1 < argc) metric = *parse_metric(argv[++i]);
-    else models.emplace_back(argv[i]);
+    if (std::strcmp(argv[i], "--runs") == 0 && i + 1 < argc)
+      runs = std::max(1, std::atoi(argv[++i]));
+    else if (std::strcmp(argv[i], "--metric") == 0 && i + 1 < argc)
+      metric = *parse_metric(argv[++i]);
+    else
+      models.emplace_back(argv[i]);
   }
   std::printf("metric %s, 80 mm, alpha 0.1, alpha_max 0.4, grid 0.01, rho 0.05, median of %d\n",
               std::string(metric_name(metric)).c_str(), runs);
-  std::printf("%-22s %8s %10s %10s %8s %12s %12s\n", "model", "faces", "profile s", "exact s", "layers", "exact@N s",
-              "compare s");
+  std::printf("%-22s %8s %10s %10s %8s %12s %12s\n", "model", "faces", "profile s", "exact s", "layers",
+              "exact@N s", "compare s");
   for (const std::string& spec : models) {
     const auto colon = spec.rfind(':');
     const std::string path = spec.substr(0, colon);
@@ -69,8 +72,9 @@ int main(int argc, char** argv) {
     });
     const PlanRequest base{obj, &m.mesh, &geo, {}, 1, {}};
     const double t_compare = median_seconds(1, [&] { compare_planners(base, 0.05, planner_names()); });
-    std::printf("%-22s %8zu %10.3f %10.3f %8d %12.3f %12.3f\n", std::filesystem::path(path).filename().c_str(),
-                m.mesh.triangle_count(), t_profile, t_exact, layers, t_fixed, t_compare);
+    std::printf("%-22s %8zu %10.3f %10.3f %8d %12.3f %12.3f\n",
+                std::filesystem::path(path).filename().c_str(), m.mesh.triangle_count(), t_profile, t_exact,
+                layers, t_fixed, t_compare);
   }
   return 0;
 }

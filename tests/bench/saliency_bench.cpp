@@ -29,8 +29,10 @@ int main(int argc, char** argv) {
       t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     }
     std::sort(t.begin(), t.end());
-    std::printf("%-10s %-22s %8zu vertices %8zu faces %8.2f s\n", std::string(saliency_method_name(*method)).c_str(),
-                std::filesystem::path(argv[i]).filename().c_str(), m.vertex_count(), m.triangle_count(), t[t.size() / 2]);
+    std::printf("%-10s %-22s %8zu vertices %8zu faces %8.2f s\n",
+                std::string(saliency_method_name(*method)).c_str(),
+                std::filesystem::path(argv[i]).filename().c_str(), m.vertex_count(), m.triangle_count(),
+                t[t.size() / 2]);
   }
   return 0;
 }

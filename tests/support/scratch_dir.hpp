@@ -11,7 +11,8 @@ namespace salient::test {
 struct ScratchDir {
   std::filesystem::path path;
   explicit ScratchDir(const std::string& name)
-      : path(std::filesystem::temp_directory_path() / ("salient-test-" + std::to_string(::getpid()) + "-" + name)) {
+      : path(std::filesystem::temp_directory_path() /
+             ("salient-test-" + std::to_string(::getpid()) + "-" + name)) {
     std::filesystem::remove_all(path);
   }
   ~ScratchDir() {

@@ -89,8 +89,9 @@ LayerPlan visual_opt(const Objective& obj, const LayerPlan& start) {
     }
     const auto widths = solve_visual_lp(cost_per_cell(obj, plan), lo, hi, p.cells());
     if (!widths) {
-      if (!valid) return plan_from_widths(*solve_visual_lp(cost_per_cell(obj, plan), std::vector<int>(n, p.min_cells()),
-                                                            std::vector<int>(n, p.max_cells()), p.cells()));
+      if (!valid)
+        return plan_from_widths(*solve_visual_lp(cost_per_cell(obj, plan), std::vector<int>(n, p.min_cells()),
+                                                 std::vector<int>(n, p.max_cells()), p.cells()));
       r /= 2;
       continue;
     }
@@ -118,7 +119,9 @@ Run adapslice(const Objective& obj, double eps, const RunContext& run) {
   auto record = [&](const char* step, const LayerPlan& plan) {
     out.trace.push_back({step, plan.layer_count(), obj.error(plan)});
   };
-  const auto loss = [&obj](int i, int j, int k) { return obj.layer_sm(i, k) - obj.layer_sm(i, j) - obj.layer_sm(j, k); };
+  const auto loss = [&obj](int i, int j, int k) {
+    return obj.layer_sm(i, k) - obj.layer_sm(i, j) - obj.layer_sm(j, k);
+  };
   const MergeSequence seq(fine_plan(p), p.max_cells(), loss, loss, run);
   LayerPlan current = seq.at(seq.fewest_within(eps - obj.error(seq.at(seq.most()))));
   record("init", current);
@@ -167,6 +170,8 @@ class AdapslicePlanner : public Planner {
 
 }  // namespace
 
-std::unique_ptr<Planner> make_adapslice() { return std::make_unique<AdapslicePlanner>(); }
+std::unique_ptr<Planner> make_adapslice() {
+  return std::make_unique<AdapslicePlanner>();
+}
 
 }  // namespace salient::core::planners

@@ -27,8 +27,10 @@ int cusp_width(const ZProfile& p, int k, double c) {
   // Leave a remainder that valid layers can fill: never 1..wmin-1 cells.
   const int left = remaining - w;
   if (left > 0 && left < wmin) {
-    if (remaining <= wmax) w = remaining;   // absorb it
-    else w = remaining - wmin;              // leave exactly one thin layer
+    if (remaining <= wmax)
+      w = remaining;  // absorb it
+    else
+      w = remaining - wmin;  // leave exactly one thin layer
   }
   return w;
 }
@@ -63,9 +65,8 @@ class CuspPlanner : public Planner {
   PlanResult plan(const PlanRequest& request) const override {
     const ZProfile& p = request.objective.profile();
     // c = 0 forces α everywhere; c = ᾱ allows ᾱ everywhere (cos θ ≤ 1).
-    return search_parameter(request, 0.0, p.params().max_layer, [&](double c) {
-      return stepwise_ ? stepwise_plan(p, c) : cusp_plan(p, c);
-    });
+    return search_parameter(request, 0.0, p.params().max_layer,
+                            [&](double c) { return stepwise_ ? stepwise_plan(p, c) : cusp_plan(p, c); });
   }
 
  private:
@@ -74,7 +75,11 @@ class CuspPlanner : public Planner {
 
 }  // namespace
 
-std::unique_ptr<Planner> make_cusp() { return std::make_unique<CuspPlanner>(false); }
-std::unique_ptr<Planner> make_stepwise() { return std::make_unique<CuspPlanner>(true); }
+std::unique_ptr<Planner> make_cusp() {
+  return std::make_unique<CuspPlanner>(false);
+}
+std::unique_ptr<Planner> make_stepwise() {
+  return std::make_unique<CuspPlanner>(true);
+}
 
 }  // namespace salient::core::planners

@@ -54,8 +54,14 @@ class RandomPlanner : public Planner {
 
 }  // namespace
 
-std::unique_ptr<Planner> make_exact() { return std::make_unique<ExactPlanner>(); }
-std::unique_ptr<Planner> make_ceo() { return std::make_unique<CeoPlanner>(); }
-std::unique_ptr<Planner> make_random() { return std::make_unique<RandomPlanner>(); }
+std::unique_ptr<Planner> make_exact() {
+  return std::make_unique<ExactPlanner>();
+}
+std::unique_ptr<Planner> make_ceo() {
+  return std::make_unique<CeoPlanner>();
+}
+std::unique_ptr<Planner> make_random() {
+  return std::make_unique<RandomPlanner>();
+}
 
 }  // namespace salient::core::planners

@@ -22,8 +22,9 @@ PlanResult read_off(const PlanRequest& request, const MergeSequence& seq) {
     const int want = clamp_count(obj.profile(), *request.target.layers, result.note);
     result.plan = seq.at(want);
     if (result.plan.layer_count() != want && result.note.empty())
-      result.note = "merging stops at " + std::to_string(seq.fewest()) + " layers (no merge keeps layers within " +
-                    "the maximum thickness), so " + std::to_string(result.plan.layer_count());
+      result.note = "merging stops at " + std::to_string(seq.fewest()) +
+                    " layers (no merge keeps layers within " + "the maximum thickness), so " +
+                    std::to_string(result.plan.layer_count());
     return result;
   }
   const double budget = request.target.epsilon.value_or(0) - obj.error(seq.at(seq.most()));
@@ -57,7 +58,8 @@ class Ha13Planner : public Planner {
     // Sections just inside the model at its bottom and top, where the planes would touch only.
     const double inset = 1e-4 * profile.grid();
     std::vector<double> heights;
-    for (int b : fine.boundaries) heights.push_back(std::clamp(profile.z(b), inset, profile.height() - inset));
+    for (int b : fine.boundaries)
+      heights.push_back(std::clamp(profile.z(b), inset, profile.height() - inset));
     // Any gap is closed: a section across a hole in the mesh still has the area it encloses.
     SectionOptions closing;
     closing.max_gap = std::numeric_limits<double>::infinity();
@@ -74,7 +76,8 @@ class Ha13Planner : public Planner {
       auto it = cache.find(key);
       if (it != cache.end()) return it->second;
       const int a = slot[i], b = slot[k];
-      const double x = std::max(0.0, area[a] + area[b] - 2 * intersection_area(sections[a].loops, sections[b].loops));
+      const double x =
+          std::max(0.0, area[a] + area[b] - 2 * intersection_area(sections[a].loops, sections[b].loops));
       const double e = 0.5 * (profile.z(k) - profile.z(i)) * x;
       cache.emplace(key, e);
       return e;
@@ -89,7 +92,11 @@ class Ha13Planner : public Planner {
 
 }  // namespace
 
-std::unique_ptr<Planner> make_hms() { return std::make_unique<HmsPlanner>(); }
-std::unique_ptr<Planner> make_ha13() { return std::make_unique<Ha13Planner>(); }
+std::unique_ptr<Planner> make_hms() {
+  return std::make_unique<HmsPlanner>();
+}
+std::unique_ptr<Planner> make_ha13() {
+  return std::make_unique<Ha13Planner>();
+}
 
 }  // namespace salient::core::planners

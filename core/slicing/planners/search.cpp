@@ -12,8 +12,8 @@ int clamp_count(const ZProfile& profile, int requested, std::string& note) {
   const int lo = profile.fewest_layers(), hi = profile.most_layers();
   const int n = std::clamp(requested, lo, hi);
   if (n != requested)
-    note = "asked for " + std::to_string(requested) + " layers; valid plans have " + std::to_string(lo) + " to " +
-           std::to_string(hi) + ", so " + std::to_string(n);
+    note = "asked for " + std::to_string(requested) + " layers; valid plans have " + std::to_string(lo) +
+           " to " + std::to_string(hi) + ", so " + std::to_string(n);
   return n;
 }
 
@@ -79,8 +79,10 @@ PlanResult search_parameter(const PlanRequest& request, double lo, double hi,
         LayerPlan p = plan(mid);
         const int count = p.layer_count();
         consider(std::move(p));
-        if ((count > want) == falling) lo = mid;
-        else hi = mid;
+        if ((count > want) == falling)
+          lo = mid;
+        else
+          hi = mid;
       }
     }
     if (best_gap > 0 && result.note.empty())
@@ -110,8 +112,10 @@ PlanResult search_parameter(const PlanRequest& request, double lo, double hi,
   for (int it = 0; it < iterations; ++it) {
     request.run.check();
     const double mid = 0.5 * (lo + hi);
-    if (consider(plan(mid))) lo = mid;
-    else hi = mid;
+    if (consider(plan(mid)))
+      lo = mid;
+    else
+      hi = mid;
   }
   return result;
 }

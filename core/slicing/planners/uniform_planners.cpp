@@ -28,8 +28,14 @@ class UniformPlanner : public Planner {
 
 }  // namespace
 
-std::unique_ptr<Planner> make_fine() { return std::make_unique<FixedPlanner>(true); }
-std::unique_ptr<Planner> make_coarse() { return std::make_unique<FixedPlanner>(false); }
-std::unique_ptr<Planner> make_uniform() { return std::make_unique<UniformPlanner>(); }
+std::unique_ptr<Planner> make_fine() {
+  return std::make_unique<FixedPlanner>(true);
+}
+std::unique_ptr<Planner> make_coarse() {
+  return std::make_unique<FixedPlanner>(false);
+}
+std::unique_ptr<Planner> make_uniform() {
+  return std::make_unique<UniformPlanner>();
+}
 
 }  // namespace salient::core::planners

@@ -1,11 +1,12 @@
 // G-code parsing and the time estimate against closed-form trapezoids.
+#include "core/gcode/time_estimator.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
 
 #include "core/common/input_error.hpp"
 #include "core/gcode/gcode_line.hpp"
-#include "core/gcode/time_estimator.hpp"
 
 using namespace salient::core;
 
@@ -78,8 +79,8 @@ TEST_CASE("limits in the file, relative moves, inches, arcs, layers and filament
   CHECK(inch.seconds == doctest::Approx(1.0).epsilon(1e-6));  // 25.4 mm at 25.4 mm/s
   const auto arc = estimate_gcode("G1 X10 Y0 F600\nG3 X-10 Y0 I-10 J0\n", "t", limits(1e9, 1e9));
   CHECK(arc.seconds == doctest::Approx(1 + M_PI).epsilon(1e-6));  // 10 mm + a half circle of r 10 at 10 mm/s
-  const auto layers = estimate_gcode(";LAYER_CHANGE\nG1 X10 E1 F600\n;LAYER_CHANGE\nG1 X30 E3\nM83\nG1 E-1\nG1 E1\n", "t",
-                                     limits(1e9, 1e9));
+  const auto layers = estimate_gcode(
+      ";LAYER_CHANGE\nG1 X10 E1 F600\n;LAYER_CHANGE\nG1 X30 E3\nM83\nG1 E-1\nG1 E1\n", "t", limits(1e9, 1e9));
   REQUIRE(layers.layer_seconds.size() == 2);
   CHECK(layers.layer_seconds[0] == doctest::Approx(1));
   CHECK(layers.layer_seconds[1] == doctest::Approx(2 + 2.0 / 10));
@@ -89,6 +90,6 @@ TEST_CASE("limits in the file, relative moves, inches, arcs, layers and filament
 }
 
 TEST_CASE("a malformed word is an error with its line") {
-  CHECK_THROWS_WITH_AS(estimate_gcode("G28\nG1 X1.2.3 F100\n", "bad.gcode"), "bad.gcode:2: malformed number in 'G1 X1.2.3 F100'",
-                       InputError);
+  CHECK_THROWS_WITH_AS(estimate_gcode("G28\nG1 X1.2.3 F100\n", "bad.gcode"),
+                       "bad.gcode:2: malformed number in 'G1 X1.2.3 F100'", InputError);
 }

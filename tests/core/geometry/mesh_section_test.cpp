@@ -1,7 +1,8 @@
 // Mesh sections and polygon areas on shapes with known cross-sections.
+#include "core/geometry/mesh_section.hpp"
+
 #include <doctest/doctest.h>
 
-#include "core/geometry/mesh_section.hpp"
 #include "core/geometry/polygon_ops.hpp"
 #include "tests/core/slicing/slicing_test_util.hpp"
 

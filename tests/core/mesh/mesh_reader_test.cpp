@@ -1,5 +1,7 @@
 // Mesh readers on inputs built in the test: every format's features and every kind of
 // malformed input, each refused with the file and the line or byte where it goes wrong.
+#include "core/mesh/mesh_reader.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -8,7 +10,6 @@
 #include <string>
 
 #include "core/common/input_error.hpp"
-#include "core/mesh/mesh_reader.hpp"
 
 using namespace salient::core;
 
@@ -57,12 +58,14 @@ TEST_CASE("binary STL whose header starts with 'solid' is read as binary") {
 TEST_CASE("truncated binary STL names the byte offset") {
   const std::string bytes = binary_stl("binary", 1000, 3);
   CHECK(error_of(bytes, "part.stl") ==
-        "part.stl: byte 80: file is truncated: header declares 1000 triangles (50084 bytes), file has 234 bytes");
+        "part.stl: byte 80: file is truncated: header declares 1000 triangles (50084 bytes), file has 234 "
+        "bytes");
 }
 
 TEST_CASE("binary STL with a NaN vertex is refused at that vertex") {
   const std::string bytes = binary_stl("x", 1, 1, std::numeric_limits<float>::quiet_NaN());
-  CHECK(error_of(bytes, "nan.stl") == "nan.stl: byte 96: vertex coordinate is not a finite number (NaN or infinity)");
+  CHECK(error_of(bytes, "nan.stl") ==
+        "nan.stl: byte 96: vertex coordinate is not a finite number (NaN or infinity)");
 }
 
 TEST_CASE("ASCII STL with several solids, a missing final endsolid and CRLF") {
@@ -105,13 +108,15 @@ TEST_CASE("OBJ errors name the line") {
         "b.obj:2: face vertex index -2 is out of range (1 vertices defined so far)");
   CHECK(error_of("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "c.obj") ==
         "c.obj:4: face vertex index 0 is invalid (OBJ indices start at 1)");
-  CHECK(error_of("v 0 nan 0\n", "d.obj") == "d.obj:1: vertex coordinate is not a finite number (NaN or infinity)");
+  CHECK(error_of("v 0 nan 0\n", "d.obj") ==
+        "d.obj:1: vertex coordinate is not a finite number (NaN or infinity)");
   CHECK(error_of("v 1 2\n", "e.obj") == "e.obj:1: vertex needs 3 coordinates, got 2");
   CHECK(error_of("v 0 0 0\n", "f.obj") == "f.obj: no faces in file");
 }
 
 TEST_CASE("OFF: counts on the header line, comments, colours and polygons") {
-  const std::string text = "COFF 4 1 0\n# comment\n0 0 0 255 0 0\n1 0 0 255 0 0\n1 1 0 0 0 255\n0 1 0 0 0 255\n4 0 1 2 3\n";
+  const std::string text =
+      "COFF 4 1 0\n# comment\n0 0 0 255 0 0\n1 0 0 255 0 0\n1 1 0 0 0 255\n0 1 0 0 0 255\n4 0 1 2 3\n";
   const MeshFile f = read_mesh(text, "q.off");
   CHECK(f.format == MeshFormat::off);
   CHECK(f.mesh.triangle_count() == 2);
@@ -122,7 +127,8 @@ TEST_CASE("OFF: counts on the header line, comments, colours and polygons") {
 TEST_CASE("OFF errors name the line") {
   CHECK(error_of("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n", "a.off") ==
         "a.off:6: face vertex index 7 is out of range (3 vertices)");
-  CHECK(error_of("OFF\n3 1 0\n0 0 0\n1 0 0\n", "b.off").find("b.off:2: header declares 3 vertices and 1 faces") == 0);
+  CHECK(error_of("OFF\n3 1 0\n0 0 0\n1 0 0\n", "b.off")
+            .find("b.off:2: header declares 3 vertices and 1 faces") == 0);
   CHECK(error_of("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n0 0 0 0 0 0 0 0 0 0\n", "c.off") ==
         "c.off:6: face needs at least 3 vertices, declares 2");
 }
@@ -140,7 +146,8 @@ std::string ply_header(const std::string& format, int vertices, const std::strin
 
 TEST_CASE("PLY ASCII with quality and colours") {
   const std::string text =
-      ply_header("ascii", 3, "property float quality\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n",
+      ply_header("ascii", 3,
+                 "property float quality\nproperty uchar red\nproperty uchar green\nproperty uchar blue\n",
                  "element face 1\nproperty list uchar int vertex_indices\n") +
       "0 0 0 0.5 255 0 0\n1 0 0 1 0 255 0\n0 1 0 0 0 0 255\n3 0 1 2\n";
   const MeshFile f = read_mesh(text, "c.ply");
@@ -152,7 +159,8 @@ TEST_CASE("PLY ASCII with quality and colours") {
 }
 
 TEST_CASE("PLY binary big endian with tristrips and -1 restarts, and other elements skipped") {
-  std::string bytes = ply_header("binary_big_endian", 5, "", "element tristrips 1\nproperty list int int vertex_indices\n") ;
+  std::string bytes =
+      ply_header("binary_big_endian", 5, "", "element tristrips 1\nproperty list int int vertex_indices\n");
   bytes.insert(bytes.find("end_header"), "element edge 1\nproperty int vertex1\nproperty int vertex2\n");
   const float v[15] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 2, 2, 0};
   for (float c : v) put(bytes, c, true);
@@ -172,7 +180,8 @@ TEST_CASE("PLY errors: huge counts, bad indices, truncation, bad header") {
   const std::string face = "element face 1\nproperty list uchar int vertex_indices\n";
   std::string huge = ply_header("binary_little_endian", 1, "", face);
   huge.replace(huge.find("vertex 1"), 8, "vertex 4000000000");
-  CHECK(error_of(huge + std::string(64, '\0'), "h.ply").find("h.ply:4: element 'vertex' declares 4000000000 entries") == 0);
+  CHECK(error_of(huge + std::string(64, '\0'), "h.ply")
+            .find("h.ply:4: element 'vertex' declares 4000000000 entries") == 0);
 
   std::string bad_index = ply_header("binary_little_endian", 3, "", face);
   for (int i = 0; i < 9; ++i) put(bad_index, 0.0f);
@@ -184,10 +193,12 @@ TEST_CASE("PLY errors: huge counts, bad indices, truncation, bad header") {
   CHECK(error_of(bad_index, "i.ply") ==
         "i.ply: byte " + std::to_string(index_at + 4) + ": vertex index 9 is out of range (3 vertices)");
 
-  std::string long_list = ply_header("binary_little_endian", 3, "", "element face 1\nproperty list int int vertex_indices\n");
+  std::string long_list =
+      ply_header("binary_little_endian", 3, "", "element face 1\nproperty list int int vertex_indices\n");
   for (int i = 0; i < 9; ++i) put(long_list, 0.0f);
   put(long_list, std::int32_t{1000000000});
-  CHECK(error_of(long_list, "l.ply").find("face list 'vertex_indices' declares 1000000000 items") != std::string::npos);
+  CHECK(error_of(long_list, "l.ply").find("face list 'vertex_indices' declares 1000000000 items") !=
+        std::string::npos);
 
   CHECK(error_of("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n", "t.ply") ==
         "t.ply:4: unexpected end of file in the header: no 'end_header'");
@@ -201,6 +212,7 @@ TEST_CASE("format comes from content before the extension") {
   const std::string obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
   CHECK(read_mesh(obj, "mislabelled.stl").format == MeshFormat::obj);
   CHECK(read_mesh("OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "noext").format == MeshFormat::off);
-  CHECK(error_of("hello world", "x.bin") == "x.bin: unrecognised mesh format (expected STL, OBJ, PLY or OFF)");
+  CHECK(error_of("hello world", "x.bin") ==
+        "x.bin: unrecognised mesh format (expected STL, OBJ, PLY or OFF)");
   CHECK(error_of("", "x.stl") == "x.stl: file is empty");
 }

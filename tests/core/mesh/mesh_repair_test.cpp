@@ -1,10 +1,11 @@
 // Repair: welding, degenerate and duplicate faces, boundary and non-manifold edges,
 // orientation (consistent, outward for closed parts, impossible on a Möbius strip).
+#include "core/mesh/mesh_repair.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
 
-#include "core/mesh/mesh_repair.hpp"
 #include "tests/core/mesh/mesh_test_util.hpp"
 
 using namespace salient::core;
@@ -39,11 +40,11 @@ TEST_CASE("STL-style soup is welded into a closed box") {
 
 TEST_CASE("degenerate and duplicate faces are removed") {
   Mesh m = box();
-  m.positions.push_back({0.5, 0, 0});          // on the edge 0-1
-  m.triangles.push_back({0, 1, 8});            // zero area
-  m.triangles.push_back({3, 3, 2});            // repeated vertex
-  m.triangles.push_back({2, 1, 0});            // same as {0, 2, 1}
-  m.triangles.push_back({0, 1, 2});            // same vertices, opposite orientation
+  m.positions.push_back({0.5, 0, 0});  // on the edge 0-1
+  m.triangles.push_back({0, 1, 8});    // zero area
+  m.triangles.push_back({3, 3, 2});    // repeated vertex
+  m.triangles.push_back({2, 1, 0});    // same as {0, 2, 1}
+  m.triangles.push_back({0, 1, 2});    // same vertices, opposite orientation
   const RepairReport r = repair_mesh(m);
   CHECK(r.degenerate_faces_removed == 2);
   CHECK(r.duplicate_faces_removed == 2);

@@ -1,7 +1,8 @@
 // Mesh measures: bounds, area, volume and normals on shapes whose answers are known.
+#include "core/mesh/mesh.hpp"
+
 #include <doctest/doctest.h>
 
-#include "core/mesh/mesh.hpp"
 #include "tests/core/mesh/mesh_test_util.hpp"
 
 using namespace salient::core;

@@ -1,8 +1,9 @@
 // Placement: up axis, scaling to a height or by a factor, z = 0 and bed centring.
+#include "core/mesh/placement.hpp"
+
 #include <doctest/doctest.h>
 
 #include "core/common/input_error.hpp"
-#include "core/mesh/placement.hpp"
 #include "tests/core/mesh/mesh_test_util.hpp"
 
 using namespace salient::core;
@@ -41,7 +42,8 @@ TEST_CASE("impossible placements are errors naming the option") {
   Mesh m = box();
   PlacementOptions o;
   o.target_height = -1;
-  CHECK_THROWS_WITH_AS(place_mesh(m, o), "placement: --height must be a positive number of millimetres", InputError);
+  CHECK_THROWS_WITH_AS(place_mesh(m, o), "placement: --height must be a positive number of millimetres",
+                       InputError);
   o.target_height = 10;
   o.scale = 2;
   CHECK_THROWS_WITH_AS(place_mesh(m, o), "placement: give either --height or --scale, not both", InputError);

@@ -81,7 +81,8 @@ TEST_CASE("float vertex colours are read") {
 TEST_CASE("every invalid shared file is refused with its name and location") {
   // file -> what the message must say (and a line number where the problem has one)
   const std::pair<const char*, const char*> cases[] = {
-      {"OutOfMemory.off", R"(^OutOfMemory\.off:2: header declares 353535235358 vertices and 6 faces, more than the remaining 288 bytes can hold$)"},
+      {"OutOfMemory.off",
+       R"(^OutOfMemory\.off:2: header declares 353535235358 vertices and 6 faces, more than the remaining 288 bytes can hold$)"},
       {"empty.obj", R"(^empty\.obj: file is empty$)"},
       {"empty.off", R"(^empty\.off: file is empty$)"},
       {"empty.ply", R"(^empty\.ply: file is empty$)"},

@@ -1,12 +1,13 @@
 // Automatic orientation: candidate directions, bed contact, eq. 11–13, the rotation to +Z, and
 // the whole choice on a bar that should be laid down.
+#include "core/orient/orientation.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
 #include <fstream>
 
 #include "core/mesh/placement.hpp"
-#include "core/orient/orientation.hpp"
 #include "core/pipeline/auto_orient.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "tests/core/mesh/mesh_test_util.hpp"
@@ -16,7 +17,9 @@ using namespace salient::core;
 
 namespace {
 
-Vec3 unit(const Vec3& v) { return v / norm(v); }
+Vec3 unit(const Vec3& v) {
+  return v / norm(v);
+}
 
 // Rotation about `axis` by `angle` (Rodrigues), for turning test meshes arbitrarily.
 Vec3 rotate(const Vec3& p, const Vec3& axis, double angle) {
@@ -25,9 +28,12 @@ Vec3 rotate(const Vec3& p, const Vec3& axis, double angle) {
 }
 
 std::string off_text(const Mesh& m) {
-  std::string s = "OFF\n" + std::to_string(m.vertex_count()) + " " + std::to_string(m.triangle_count()) + " 0\n";
-  for (const Vec3& p : m.positions) s += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
-  for (const Triangle& t : m.triangles) s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
+  std::string s =
+      "OFF\n" + std::to_string(m.vertex_count()) + " " + std::to_string(m.triangle_count()) + " 0\n";
+  for (const Vec3& p : m.positions)
+    s += std::to_string(p.x) + " " + std::to_string(p.y) + " " + std::to_string(p.z) + "\n";
+  for (const Triangle& t : m.triangles)
+    s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) + "\n";
   return s;
 }
 
@@ -39,7 +45,8 @@ TEST_CASE("a turned box: the three candidates are its face normals") {
   const double angle = 0.7;
   for (Vec3& p : m.positions) p = rotate(p, axis, angle);
   const auto candidates = candidate_directions(m);
-  const std::array<Vec3, 3> faces = {rotate({1, 0, 0}, axis, angle), rotate({0, 1, 0}, axis, angle), rotate({0, 0, 1}, axis, angle)};
+  const std::array<Vec3, 3> faces = {rotate({1, 0, 0}, axis, angle), rotate({0, 1, 0}, axis, angle),
+                                     rotate({0, 0, 1}, axis, angle)};
   for (const Vec3& f : faces) {
     double best = 0;
     for (const Vec3& c : candidates) best = std::max(best, std::abs(dot(c, f)));
@@ -58,7 +65,8 @@ TEST_CASE("bed contact: the face that lies on the bed, and the sign that puts th
   CHECK(bed_contact_area(m, {0, 0, 1}) == doctest::Approx(200));
   CHECK(bed_contact_area(m, {1, 0, 0}) == doctest::Approx(1200));
   CHECK(bed_contact_area(m, {0, 0, -1}) == doctest::Approx(200));
-  // A wedge: a square base at the bottom, a ridge on top (touching the bed only along a line when upside down).
+  // A wedge: a square base at the bottom, a ridge on top (touching the bed only along a line when upside
+  // down).
   Mesh wedge;
   wedge.positions = {{0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}, {0, 5, 8}, {10, 5, 8}};
   wedge.triangles = {{0, 2, 1}, {0, 3, 2}, {0, 1, 5}, {0, 5, 4}, {3, 4, 5}, {3, 5, 2}, {0, 4, 3}, {1, 2, 5}};
@@ -106,7 +114,8 @@ TEST_CASE("OS (eqs. 11-12) by hand") {
 }
 
 TEST_CASE("turning a direction to +Z is a proper rotation") {
-  for (const Vec3& d : {Vec3{0, 0, 1}, Vec3{0, 0, -1}, Vec3{1, 0, 0}, Vec3{0.2, -0.9, 0.3}, Vec3{-1e-9, 0, -1}}) {
+  for (const Vec3& d :
+       {Vec3{0, 0, 1}, Vec3{0, 0, -1}, Vec3{1, 0, 0}, Vec3{0.2, -0.9, 0.3}, Vec3{-1e-9, 0, -1}}) {
     const Vec3 u = unit(d);
     const Vec3 z = turn_to_z(u, u);
     CHECK(z.x == doctest::Approx(0).epsilon(1e-9));

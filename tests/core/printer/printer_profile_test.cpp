@@ -1,8 +1,9 @@
 // Printer profiles: the shipped ones load with the paper's numbers; mistakes are named.
+#include "core/printer/printer_profile.hpp"
+
 #include <doctest/doctest.h>
 
 #include "core/common/input_error.hpp"
-#include "core/printer/printer_profile.hpp"
 
 using namespace salient::core;
 
@@ -27,10 +28,10 @@ TEST_CASE("shipped profiles load, the Replicator 2X as in the paper") {
 }
 
 TEST_CASE("profile mistakes are errors naming the key and line") {
-  CHECK_THROWS_WITH_AS(parse_printer_profile("name = \"x\"\n[bed]\nwidht = 200\n", "p.toml"), "p.toml:3: unknown key 'bed.widht'",
-                       InputError);
-  CHECK_THROWS_WITH_AS(parse_printer_profile("[bed]\nwidth = \"wide\"\n", "p.toml"), "p.toml:2: 'bed.width' must be a number",
-                       InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("name = \"x\"\n[bed]\nwidht = 200\n", "p.toml"),
+                       "p.toml:3: unknown key 'bed.widht'", InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[bed]\nwidth = \"wide\"\n", "p.toml"),
+                       "p.toml:2: 'bed.width' must be a number", InputError);
   CHECK_THROWS_WITH_AS(parse_printer_profile("[layers]\nmin = -0.1\n", "p.toml"),
                        "p.toml:2: 'layers.min' must be a positive number", InputError);
   CHECK_THROWS_WITH_AS(parse_printer_profile("[layers]\nmin = 0.3\nmax = 0.2\n", "p.toml"),
@@ -38,5 +39,6 @@ TEST_CASE("profile mistakes are errors naming the key and line") {
   CHECK_THROWS_WITH_AS(parse_printer_profile("flavor = \"klipper\"\n", "p.toml"),
                        "p.toml: 'flavor' must be marlin, reprap or sailfish, got 'klipper'", InputError);
   CHECK_THROWS_AS(parse_printer_profile("[bed\nwidth = 1\n", "p.toml"), InputError);
-  CHECK_THROWS_WITH_AS(parse_printer_profile("colour = 1\n", "p.toml"), "p.toml:1: unknown key 'colour'", InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("colour = 1\n", "p.toml"), "p.toml:1: unknown key 'colour'",
+                       InputError);
 }

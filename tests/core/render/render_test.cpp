@@ -41,7 +41,8 @@ TEST_CASE("preview PNG has three views of the requested size") {
   CHECK(img.width == 192);
   CHECK(img.height == 64);
   int coloured = 0;
-  for (std::size_t i = 0; i < img.rgb.size(); i += 3) coloured += !(img.rgb[i] == 255 && img.rgb[i + 1] == 255);
+  for (std::size_t i = 0; i < img.rgb.size(); i += 3)
+    coloured += !(img.rgb[i] == 255 && img.rgb[i + 1] == 255);
   CHECK(coloured > 64 * 64 / 4);  // the box covers a good part of each view
   const auto path = std::filesystem::temp_directory_path() / "salient_preview.png";
   write_png(path, img);

@@ -1,5 +1,7 @@
 // Saliency: range, determinism, invariance to rigid motion and uniform scale, bumps stand out
 // on a sphere, small and large meshes, and the user's value files.
+#include "core/saliency/saliency.hpp"
+
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -10,7 +12,6 @@
 #include "core/common/input_error.hpp"
 #include "core/mesh/mesh_loader.hpp"
 #include "core/saliency/lee05_saliency.hpp"
-#include "core/saliency/saliency.hpp"
 #include "core/saliency/spectral_saliency.hpp"
 #include "tests/core/mesh/mesh_test_util.hpp"
 
@@ -18,11 +19,14 @@ using namespace salient::core;
 
 namespace {
 
-Mesh load(const char* file) { return load_mesh(std::filesystem::path(salient::test::model_path(file))).mesh; }
+Mesh load(const char* file) {
+  return load_mesh(std::filesystem::path(salient::test::model_path(file))).mesh;
+}
 
 double correlation(const std::vector<float>& a, const std::vector<float>& b) {
   const double n = static_cast<double>(a.size());
-  const double ma = std::accumulate(a.begin(), a.end(), 0.0) / n, mb = std::accumulate(b.begin(), b.end(), 0.0) / n;
+  const double ma = std::accumulate(a.begin(), a.end(), 0.0) / n,
+               mb = std::accumulate(b.begin(), b.end(), 0.0) / n;
   double sab = 0, saa = 0, sbb = 0;
   for (std::size_t i = 0; i < a.size(); ++i) {
     sab += (a[i] - ma) * (b[i] - mb);
@@ -46,7 +50,8 @@ Mesh moved(Mesh m) {
 // A unit icosphere-like UV sphere with six sharp bumps; returns the bump tip vertices.
 Mesh bumpy_sphere(std::vector<std::uint32_t>& tips) {
   Mesh m = salient::test::uv_sphere(48, 96);
-  const Vec3 centres[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0.6, 0.6, 0.53}, {-0.6, -0.6, -0.53}};
+  const Vec3 centres[] = {{1, 0, 0},  {-1, 0, 0},       {0, 1, 0},
+                          {0, -1, 0}, {0.6, 0.6, 0.53}, {-0.6, -0.6, -0.53}};
   for (const Vec3& c0 : centres) {
     const Vec3 c = c0 / norm(c0);
     std::uint32_t tip = 0;
@@ -83,7 +88,8 @@ TEST_CASE("saliency is invariant to rigid motion and uniform scale") {
   const Mesh m = load("spot.obj");
   for (SaliencyMethod method : {SaliencyMethod::spectral, SaliencyMethod::lee05}) {
     CAPTURE(saliency_method_name(method));
-    const double r = correlation(compute_saliency(m, method, "spot"), compute_saliency(moved(m), method, "spot"));
+    const double r =
+        correlation(compute_saliency(m, method, "spot"), compute_saliency(moved(m), method, "spot"));
     CAPTURE(r);
     CHECK(r >= 0.95);
   }
@@ -100,7 +106,9 @@ TEST_CASE("sharp bumps on a sphere are more salient than the smooth sphere") {
     std::size_t near_n = 0, far_n = 0;
     for (std::uint32_t i = 0; i < m.vertex_count(); ++i) {
       double closest = 10;
-      for (std::uint32_t t : tips) closest = std::min(closest, norm(m.positions[i] / norm(m.positions[i]) - m.positions[t] / norm(m.positions[t])));
+      for (std::uint32_t t : tips)
+        closest = std::min(
+            closest, norm(m.positions[i] / norm(m.positions[i]) - m.positions[t] / norm(m.positions[t])));
       if (closest < 0.3) near_sum += s[i], ++near_n;
       if (closest > 0.7) far_sum += s[i], ++far_n;
     }
@@ -135,11 +143,12 @@ TEST_CASE("a user's value file: read, and every problem named with its line") {
     std::ofstream(dir / name) << text;
     return dir / name;
   };
-  CHECK(read_vertex_values(write("v3.txt", "# saliency\n0.5\n\n1\n0.25\n"), 3) == std::vector<float>{0.5f, 1.0f, 0.25f});
-  CHECK_THROWS_WITH_AS(read_vertex_values(write("bad.txt", "0.5\nhigh\n"), 3), "bad.txt:2: expected a number for a vertex value, got 'high'",
-                       InputError);
-  CHECK_THROWS_WITH_AS(read_vertex_values(write("short.txt", "0.5\n"), 3), "short.txt: has 1 values, the model has 3 vertices",
-                       InputError);
-  CHECK_THROWS_WITH_AS(read_vertex_values(write("long.txt", "1\n2\n3\n4\n"), 3), "long.txt:4: more values than the model's 3 vertices",
-                       InputError);
+  CHECK(read_vertex_values(write("v3.txt", "# saliency\n0.5\n\n1\n0.25\n"), 3) ==
+        std::vector<float>{0.5f, 1.0f, 0.25f});
+  CHECK_THROWS_WITH_AS(read_vertex_values(write("bad.txt", "0.5\nhigh\n"), 3),
+                       "bad.txt:2: expected a number for a vertex value, got 'high'", InputError);
+  CHECK_THROWS_WITH_AS(read_vertex_values(write("short.txt", "0.5\n"), 3),
+                       "short.txt: has 1 values, the model has 3 vertices", InputError);
+  CHECK_THROWS_WITH_AS(read_vertex_values(write("long.txt", "1\n2\n3\n4\n"), 3),
+                       "long.txt:4: more values than the model's 3 vertices", InputError);
 }

@@ -21,7 +21,8 @@ namespace {
 
 constexpr double radius = 40;
 
-// A sphere of radius 40 mm on the bed (a print of an hour or more: small ones are all cooling time), at the middle of generic-i3's bed.
+// A sphere of radius 40 mm on the bed (a print of an hour or more: small ones are all cooling time), at the
+// middle of generic-i3's bed.
 Mesh sphere_on_bed(const PrinterProfile& printer) {
   Mesh m = salient::test::uv_sphere(48, 96);
   for (Vec3& p : m.positions) p = Vec3{printer.bed_center_x(), printer.bed_center_y(), radius} + p * radius;
@@ -49,7 +50,10 @@ struct Fixture {
     profile = std::make_unique<ZProfile>(ZProfile::build(mesh, saliency, params));
     const SegOptInput in{mesh, saliency, *profile, Metric::area, *planner, 0.05, 1, nullptr, {}};
     return seg_opt(
-        in, [&](const std::vector<PlanRegion>& r) { return region_print_seconds(mesh, *profile, r, settings, printer); },
+        in,
+        [&](const std::vector<PlanRegion>& r) {
+          return region_print_seconds(mesh, *profile, r, settings, printer);
+        },
         options);
   }
 };
@@ -81,7 +85,8 @@ TEST_CASE("a sphere with one salient half is cut between its halves, and the cut
   for (const PlanRegion& region : r.regions) sides += region.side >= 0;
   CHECK(sides >= 2);
   MESSAGE("sphere, one salient half: " << r.note << "; " << r.whole_seconds / 60 << " min whole, "
-                                       << r.parts_seconds / 60 << " min parts, " << r.seconds / 60 << " min segmented");
+                                       << r.parts_seconds / 60 << " min parts, " << r.seconds / 60
+                                       << " min segmented");
 }
 
 TEST_CASE("each region of a segmented plan keeps its budget, and the parts of a slab keep the slab's") {
@@ -90,10 +95,12 @@ TEST_CASE("each region of a segmented plan keeps its budget, and the parts of a 
   REQUIRE(r.cut);
   const auto parts = split_mesh(f.mesh, f.saliency, r.seam->plane);
   std::vector<ZProfile> part;
-  for (int s = 0; s < 2; ++s) part.push_back(ZProfile::build(parts[s].mesh, parts[s].values, f.params, {}, f.profile->height()));
+  for (int s = 0; s < 2; ++s)
+    part.push_back(ZProfile::build(parts[s].mesh, parts[s].values, f.params, {}, f.profile->height()));
   for (const PlanRegion& region : r.regions) {
     // E recomputed from scratch on the region's own slab and part.
-    const ZProfile slab = (region.side < 0 ? *f.profile : part[region.side]).window(region.first_cell, region.last_cell);
+    const ZProfile slab =
+        (region.side < 0 ? *f.profile : part[region.side]).window(region.first_cell, region.last_cell);
     const Objective objective(slab, Metric::area);
     LayerPlan local;
     for (int b : region.plan.boundaries) local.boundaries.push_back(b - region.first_cell);
@@ -101,13 +108,15 @@ TEST_CASE("each region of a segmented plan keeps its budget, and the parts of a 
     const double e = objective.error(local);
     CHECK(e == doctest::Approx(region.error).epsilon(1e-9));
     CHECK(e <= region.epsilon * (1 + 1e-9) + 1e-12);
-    const double slab_budget = Objective(f.profile->window(region.first_cell, region.last_cell), Metric::area).epsilon(0.05);
+    const double slab_budget =
+        Objective(f.profile->window(region.first_cell, region.last_cell), Metric::area).epsilon(0.05);
     if (region.side < 0) {
       CHECK(region.epsilon == doctest::Approx(slab_budget));
     } else {
       double shared = 0;  // the two parts of this slab
       for (const PlanRegion& other : r.regions)
-        if (other.first_cell == region.first_cell && other.last_cell == region.last_cell) shared += other.error;
+        if (other.first_cell == region.first_cell && other.last_cell == region.last_cell)
+          shared += other.error;
       CHECK(shared <= slab_budget * (1 + 1e-9));
     }
   }
@@ -165,7 +174,8 @@ TEST_CASE("the G-code of a segmented plan prints each region at its own heights"
   // Every region's layer tops are printed heights, and nothing else is.
   std::set<long> want;
   for (const PlanRegion& region : r.regions)
-    for (std::size_t i = 1; i < region.plan.boundaries.size(); ++i) want.insert(std::lround(f.profile->z(region.plan.boundaries[i]) * 1000));
+    for (std::size_t i = 1; i < region.plan.boundaries.size(); ++i)
+      want.insert(std::lround(f.profile->z(region.plan.boundaries[i]) * 1000));
   const std::string gcode = write_gcode(layers, f.printer, {}).text;
   std::set<long> printed;
   std::istringstream in(gcode);
@@ -181,7 +191,8 @@ TEST_CASE("the G-code of a segmented plan prints each region at its own heights"
   double thin = 1, thick = 0;
   for (const LayerToolpaths& l : layers)
     for (const ExtrusionPath& path : l.paths)
-      if (path.role == ExtrusionRole::external_perimeter) thin = std::min(thin, path.height), thick = std::max(thick, path.height);
+      if (path.role == ExtrusionRole::external_perimeter)
+        thin = std::min(thin, path.height), thick = std::max(thick, path.height);
   CHECK(thin < thick - 0.1);
   CHECK(regions_svg(*f.profile, r.regions, "sphere").find("regions") != std::string::npos);
 }
@@ -194,7 +205,8 @@ TEST_CASE("recursively: a part is cut again where that saves time, and the neste
   const double cx = f.printer.bed_center_x(), half_length = 2.2 * radius;
   for (Vec3& p : f.mesh.positions) p.x = cx + (p.x - cx) * 2.2;
   std::vector<float> s(f.mesh.vertex_count());
-  for (std::size_t v = 0; v < s.size(); ++v) s[v] = std::fabs(f.mesh.positions[v].x - cx) < half_length / 3 ? 1.0f : 0.02f;
+  for (std::size_t v = 0; v < s.size(); ++v)
+    s[v] = std::fabs(f.mesh.positions[v].x - cx) < half_length / 3 ? 1.0f : 0.02f;
   SegOptOptions options;
   options.tau = 0.95;
   const SegOptResult once = f.run(s, options);
@@ -214,8 +226,10 @@ TEST_CASE("recursively: a part is cut again where that saves time, and the neste
   const auto layers = region_toolpaths(f.mesh, *f.profile, twice.regions, f.settings);
   const std::vector<double> heights = printed_heights(*f.profile, twice.regions);
   for (const LayerToolpaths& l : layers)
-    CHECK(std::any_of(heights.begin(), heights.end(), [&](double z) { return std::fabs(z - l.z_top) < 1e-6; }));
-  MESSAGE("recursive: " << once.seconds / 60 << " min at depth 1, " << twice.seconds / 60 << " min at depth 2; " << twice.note);
+    CHECK(
+        std::any_of(heights.begin(), heights.end(), [&](double z) { return std::fabs(z - l.z_top) < 1e-6; }));
+  MESSAGE("recursive: " << once.seconds / 60 << " min at depth 1, " << twice.seconds / 60
+                        << " min at depth 2; " << twice.note);
 }
 
 TEST_CASE("find_cuts: the best planes by seam cost, one per direction, the first is find_cut's") {

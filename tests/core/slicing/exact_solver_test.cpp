@@ -1,11 +1,12 @@
 // ExactSolver against brute force on random small models: it must find the least SM for every
 // layer count and the fewest layers within every budget, under both metrics.
+#include "core/slicing/exact_solver.hpp"
+
 #include <doctest/doctest.h>
 
 #include <functional>
 #include <limits>
 
-#include "core/slicing/exact_solver.hpp"
 #include "tests/core/slicing/slicing_test_util.hpp"
 
 using namespace salient::core;

@@ -1,11 +1,11 @@
 // The AdapSlice LPs solved by our dedicated solvers match GLPK's simplex on random instances.
+#include "core/slicing/lp_solvers.hpp"
+
 #include <doctest/doctest.h>
 #include <glpk.h>
 
 #include <numeric>
 #include <random>
-
-#include "core/slicing/lp_solvers.hpp"
 
 using namespace salient::core;
 
@@ -65,8 +65,8 @@ TEST_CASE("VisualOpt LP matches GLPK") {
       CHECK(((*x)[i] >= lo[i] && (*x)[i] <= hi[i]));
       ours += g[i] * (*x)[i];
     }
-    const double theirs = glpk_solve(g, std::vector<double>(lo.begin(), lo.end()), std::vector<double>(hi.begin(), hi.end()),
-                                     total, nullptr, 0);
+    const double theirs = glpk_solve(g, std::vector<double>(lo.begin(), lo.end()),
+                                     std::vector<double>(hi.begin(), hi.end()), total, nullptr, 0);
     CHECK(ours == doctest::Approx(theirs).epsilon(1e-9));
   }
   CHECK_FALSE(solve_visual_lp({1, 1}, {5, 5}, {6, 6}, 20).has_value());
@@ -80,7 +80,9 @@ TEST_CASE("TimeOpt LP matches GLPK, including when the budget binds") {
     std::vector<double> c(n), g(n), u(n);
     for (int i = 0; i < n; ++i) {
       // weights like eq. 7: some huge (layers at α), most moderate
-      c[i] = std::uniform_int_distribution<int>(0, 4)(rng) == 0 ? 1e8 : std::uniform_real_distribution<double>(2, 40)(rng);
+      c[i] = std::uniform_int_distribution<int>(0, 4)(rng) == 0
+                 ? 1e8
+                 : std::uniform_real_distribution<double>(2, 40)(rng);
       g[i] = std::uniform_real_distribution<double>(0.01, 3)(rng);
       u[i] = std::uniform_int_distribution<int>(10, 40)(rng);
     }

@@ -1,7 +1,7 @@
 // MergeSequence: merges respect the maximum width at every count, in order of cost.
-#include <doctest/doctest.h>
-
 #include "core/slicing/merge_sequence.hpp"
+
+#include <doctest/doctest.h>
 
 using namespace salient::core;
 

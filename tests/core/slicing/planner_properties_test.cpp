@@ -42,8 +42,10 @@ void check_all_planners(const Mesh& mesh, const std::vector<float>& saliency, Me
     if (by_count.plan.layer_count() == n_ref)
       CHECK(obj.error(by_count.plan) >= obj.error(exact_n.plan) - slack);  // never lower E than exact
     // The requested count, or the nearest the planner's parameter reaches, with a note saying so.
-    if (name != "fine" && name != "coarse") CHECK((by_count.plan.layer_count() == n_ref || !by_count.note.empty()));
-    for (std::size_t i = 1; i < by_eps.trace.size(); ++i) CHECK(by_eps.trace[i].layers <= by_eps.trace[i - 1].layers);
+    if (name != "fine" && name != "coarse")
+      CHECK((by_count.plan.layer_count() == n_ref || !by_count.note.empty()));
+    for (std::size_t i = 1; i < by_eps.trace.size(); ++i)
+      CHECK(by_eps.trace[i].layers <= by_eps.trace[i - 1].layers);
   }
 }
 
@@ -66,7 +68,9 @@ void check_model(const char* file, const char* up) {
 
 }  // namespace
 
-TEST_CASE("planner properties: stanford-bunny") { check_model("stanford-bunny.obj", "y"); }
+TEST_CASE("planner properties: stanford-bunny") {
+  check_model("stanford-bunny.obj", "y");
+}
 TEST_CASE("planner properties: spot, cow") {
   check_model("spot.obj", "y");
   check_model("cow.obj", "y");
@@ -81,7 +85,9 @@ TEST_CASE("planner properties: alligator, beetle, woody") {
   check_model("beetle.obj", "y");
   check_model("woody.obj", "y");
 }
-TEST_CASE("planner properties: igea") { check_model("igea.ply", "z"); }
+TEST_CASE("planner properties: igea") {
+  check_model("igea.ply", "z");
+}
 TEST_CASE("planner properties: STL and PLY edge cases") {
   check_model("Spider_binary.stl", "z");
   check_model("sphereWithHole.stl", "z");
@@ -92,5 +98,6 @@ TEST_CASE("a flat model cannot be planned, with a clear error") {
   LoadedMesh m = load_mesh(std::filesystem::path(salient::test::model_path("triangle_with_two_solids.stl")));
   place_mesh(m.mesh, {});
   const std::vector<float> s(m.mesh.vertex_count(), 1.0f);
-  CHECK_THROWS_WITH_AS(ZProfile::build(m.mesh, s, {}), "model: is 0 mm tall, lower than --min-layer 0.1 mm", InputError);
+  CHECK_THROWS_WITH_AS(ZProfile::build(m.mesh, s, {}), "model: is 0 mm tall, lower than --min-layer 0.1 mm",
+                       InputError);
 }

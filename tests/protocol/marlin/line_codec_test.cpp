@@ -1,7 +1,7 @@
 // Marlin line framing: checksums as the firmware computes them, comment stripping, parsing.
-#include <doctest/doctest.h>
-
 #include "protocol/marlin/line_codec.hpp"
+
+#include <doctest/doctest.h>
 
 using namespace salient::protocol::marlin;
 

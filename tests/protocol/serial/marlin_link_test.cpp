@@ -2,6 +2,8 @@
 // executable on a real pseudo-terminal. For a G-code file of more than 50,000 lines, under each
 // fault and all at once, the simulator's log of executed commands must be the file's commands,
 // exactly: none lost, none doubled (besides the host's own M115, M110 and counted M105 pokes).
+#include "protocol/serial/marlin_link.hpp"
+
 #include <arpa/inet.h>
 #include <doctest/doctest.h>
 #include <netinet/in.h>
@@ -11,19 +13,18 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <atomic>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "protocol/marlin/line_codec.hpp"
 #include "protocol/marlin/resume_prelude.hpp"
-#include "protocol/serial/marlin_link.hpp"
 #include "protocol/sim/sim_firmware.hpp"
 
 namespace fs = std::filesystem;
@@ -34,8 +35,16 @@ namespace {
 
 // A print as a slicer writes it: heat-up, then layers of perimeters and infill.
 std::vector<std::string> make_gcode(std::size_t moves) {
-  std::vector<std::string> g = {"; generated for the link tests", "M140 S60", "M104 S210", "G28 ; home all axes",
-                                "M190 S60", "M109 S210", "G90", "M83", "G92 E0", ""};
+  std::vector<std::string> g = {"; generated for the link tests",
+                                "M140 S60",
+                                "M104 S210",
+                                "G28 ; home all axes",
+                                "M190 S60",
+                                "M109 S210",
+                                "G90",
+                                "M83",
+                                "G92 E0",
+                                ""};
   char buf[96];
   for (std::size_t i = 0, layer = 0; i < moves; ++i) {
     if (i % 500 == 0) {
@@ -44,8 +53,8 @@ std::vector<std::string> make_gcode(std::size_t moves) {
       g.push_back(buf);
     }
     const double a = double(i % 500) * 0.0125;
-    std::snprintf(buf, sizeof buf, "G1 X%.3f Y%.3f E%.5f%s", 100 + 30 * std::cos(a), 100 + 30 * std::sin(a), 0.02 + 1e-5 * double(i % 97),
-                  i % 50 == 0 ? " F1800 ; perimeter" : "");
+    std::snprintf(buf, sizeof buf, "G1 X%.3f Y%.3f E%.5f%s", 100 + 30 * std::cos(a), 100 + 30 * std::sin(a),
+                  0.02 + 1e-5 * double(i % 97), i % 50 == 0 ? " F1800 ; perimeter" : "");
     g.push_back(buf);
   }
   g.push_back("M104 S0");
@@ -85,10 +94,12 @@ class Simulator {
  public:
   explicit Simulator(std::vector<std::string> args) {
     static int counter = 0;
-    dir_ = fs::temp_directory_path() / ("salient-link-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
+    dir_ = fs::temp_directory_path() /
+           ("salient-link-test-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
     fs::create_directories(dir_);
     args.insert(args.begin(), SALIENT_BINARY_DIR "/protocol/salient-sim");
-    for (const char* opt : {"--log", "--stats"}) args.push_back(opt), args.push_back((dir_ / (opt + 2)).string());
+    for (const char* opt : {"--log", "--stats"})
+      args.push_back(opt), args.push_back((dir_ / (opt + 2)).string());
     int out[2];
     REQUIRE(::pipe(out) == 0);
     pid_ = ::fork();
@@ -137,8 +148,9 @@ struct Run {
   long long lines_rejected = 0, oks_dropped = 0, lines_after_halt = 0;
 };
 
-Run print_through(const std::vector<std::string>& sim_args, const std::vector<std::string>& gcode, milliseconds timeout,
-                  std::size_t resume_from = 0, const std::vector<std::string>& prelude = {}) {
+Run print_through(const std::vector<std::string>& sim_args, const std::vector<std::string>& gcode,
+                  milliseconds timeout, std::size_t resume_from = 0,
+                  const std::vector<std::string>& prelude = {}) {
   Simulator sim(sim_args);
   serial::LinkConfig config;
   config.session.reply_timeout = timeout;
@@ -187,15 +199,19 @@ void check_exact(const std::vector<std::string>& sim_args, milliseconds timeout)
   const std::vector<std::string> got = printed(run);
   CHECK(got.size() == expected.size());
   CHECK(got == expected);  // none lost, none doubled, in order
-  MESSAGE(run.result.total << " commands in " << run.result.seconds << " s, " << run.lines_rejected << " lines rejected, "
-                           << run.result.lines_resent << " resent, " << run.oks_dropped << " oks dropped, "
-                           << run.result.pokes << " pokes");
+  MESSAGE(run.result.total << " commands in " << run.result.seconds << " s, " << run.lines_rejected
+                           << " lines rejected, " << run.result.lines_resent << " resent, " << run.oks_dropped
+                           << " oks dropped, " << run.result.pokes << " pokes");
 }
 
 }  // namespace
 
-TEST_CASE("ping-pong, no faults: the log is the file") { check_exact({}, milliseconds(2000)); }
-TEST_CASE("ADVANCED_OK send-ahead, no faults: the log is the file") { check_exact({"--advanced-ok"}, milliseconds(2000)); }
+TEST_CASE("ping-pong, no faults: the log is the file") {
+  check_exact({}, milliseconds(2000));
+}
+TEST_CASE("ADVANCED_OK send-ahead, no faults: the log is the file") {
+  check_exact({"--advanced-ok"}, milliseconds(2000));
+}
 
 TEST_CASE("noise 2 %: every corrupted line is asked for again and executed once") {
   check_exact({"--faults", "noise=0.02,seed=11"}, milliseconds(200));
@@ -224,13 +240,15 @@ TEST_CASE("busy heating: the keepalives hold off the timeout, no poke is needed"
 TEST_CASE("all faults at once, with heating, in both flow-control modes") {
   const std::string faults = "noise=0.02,drop-ok=0.01,resend-without-ok";
   check_exact({"--heat-time-scale", "0.02", "--faults", faults + ",seed=17"}, milliseconds(25));
-  check_exact({"--advanced-ok", "--heat-time-scale", "0.02", "--faults", faults + ",seed=18"}, milliseconds(25));
+  check_exact({"--advanced-ok", "--heat-time-scale", "0.02", "--faults", faults + ",seed=18"},
+              milliseconds(25));
 }
 
 TEST_CASE("a disconnect ends the print with the last confirmed command, and resuming completes it") {
   const auto& gcode = big_file();
   const std::vector<std::string> all = commands_of(gcode);
-  const Run cut = print_through({"--advanced-ok", "--faults", "disconnect-after=5000"}, gcode, milliseconds(500));
+  const Run cut =
+      print_through({"--advanced-ok", "--faults", "disconnect-after=5000"}, gcode, milliseconds(500));
   CHECK(cut.result.disconnected);
   CHECK(cut.result.state == marlin::SessionState::failed);
   CHECK(cut.result.reason.find("disconnected") != std::string::npos);
@@ -266,7 +284,8 @@ TEST_CASE("thermal runaway stops sending at once") {
   CHECK(run.result.reason.find("Thermal Runaway") != std::string::npos);
   CHECK(run.log.size() == 4000);
   CHECK(run.lines_after_halt == 0);  // not a single line after the error
-  const Run ahead = print_through({"--advanced-ok", "--faults", "thermal-runaway-at=4000"}, big_file(), milliseconds(500));
+  const Run ahead =
+      print_through({"--advanced-ok", "--faults", "thermal-runaway-at=4000"}, big_file(), milliseconds(500));
   CHECK(ahead.result.state == marlin::SessionState::failed);
   CHECK(ahead.lines_after_halt <= 3);  // only lines already on the wire when it halted (B ≤ 3)
 }

@@ -1,4 +1,6 @@
 // SimFirmware driven directly (no pseudo-terminal): what Marlin would answer, byte for byte.
+#include "protocol/sim/sim_firmware.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -6,7 +8,6 @@
 
 #include "protocol/marlin/line_codec.hpp"
 #include "protocol/sim/sim_faults.hpp"
-#include "protocol/sim/sim_firmware.hpp"
 #include "protocol/sim/wire.hpp"
 
 using namespace salient::protocol::sim;
@@ -14,7 +15,9 @@ using salient::protocol::marlin::frame;
 
 namespace {
 
-std::string line(long long n, const std::string& command) { return frame(static_cast<std::uint64_t>(n), command) + "\n"; }
+std::string line(long long n, const std::string& command) {
+  return frame(static_cast<std::uint64_t>(n), command) + "\n";
+}
 
 // Feeds `bytes` at `t`, runs the firmware and returns what it said.
 std::string talk(SimFirmware& fw, const std::string& bytes, Micros t) {
@@ -33,7 +36,8 @@ TEST_CASE("numbered lines are checked in Marlin's order and a bad one flushes th
   std::string bad = line(2, "G1 X2");
   bad[4] = 'Y';
   CHECK(talk(fw, bad + line(3, "G1 X3"), t) == "Error:checksum mismatch, Last Line: 1\nResend: 2\nok\n");
-  CHECK(talk(fw, line(3, "G1 X3"), t) == "Error:Line Number is not Last Line Number+1, Last Line: 1\nResend: 2\nok\n");
+  CHECK(talk(fw, line(3, "G1 X3"), t) ==
+        "Error:Line Number is not Last Line Number+1, Last Line: 1\nResend: 2\nok\n");
   CHECK(talk(fw, "N2 G1 X2\n", t) == "Error:No Checksum with line number, Last Line: 1\nResend: 2\nok\n");
   CHECK(talk(fw, line(2, "G1 X2") + line(3, "G1 X3") + "G1 X4 ; unnumbered\n", t) == "ok\nok\nok\n");
   CHECK(fw.take_executed() == std::vector<std::string>{"M110 N0", "G1 X1", "G1 X2", "G1 X3", "G1 X4"});
@@ -45,7 +49,8 @@ TEST_CASE("ADVANCED_OK names the line and the free planner blocks and queue slot
   c.advanced_ok = true;
   SimFirmware fw(c);
   CHECK(talk(fw, line(0, "M110 N0"), Micros{0}) == "ok N0 P16 B3\n");
-  CHECK(talk(fw, "M115\n", Micros{0}).find("Cap:EMERGENCY_PARSER:0\nCap:EEPROM:0\nok P16 B3\n") != std::string::npos);
+  CHECK(talk(fw, "M115\n", Micros{0}).find("Cap:EMERGENCY_PARSER:0\nCap:EEPROM:0\nok P16 B3\n") !=
+        std::string::npos);
 }
 
 TEST_CASE("moves take planner blocks and time, the queue holds BUFSIZE commands, oks follow") {
@@ -75,7 +80,7 @@ TEST_CASE("moves take planner blocks and time, the queue holds BUFSIZE commands,
     said += fw.take_output(t);
   }
   CHECK(said == "ok\nok\necho:busy: processing\nok\n");  // M400 waited over 2 s: a keepalive
-  CHECK(t == Micros{6600000});  // moves 5 and 6 entered as blocks 3 and 4 finished
+  CHECK(t == Micros{6600000});                           // moves 5 and 6 entered as blocks 3 and 4 finished
 }
 
 TEST_CASE("M109 waits for the heater, with busy keepalives and temperature reports") {
@@ -128,14 +133,16 @@ TEST_CASE("faults: reset, thermal runaway, disconnect, no ok after Resend, dropp
   CHECK(talk(r, "G1 X1\nG1 X2\nG1 X3\n", Micros{0}).find("ok\nstart\n") == 0);
   c.faults = parse_faults("thermal-runaway-at=1");
   SimFirmware t(c);
-  CHECK(talk(t, "G1 X1\n", Micros{0}) == "Error:Thermal Runaway, system stopped! Heater_ID: 0\nError:Printer halted. kill() called!\n");
+  CHECK(talk(t, "G1 X1\n", Micros{0}) ==
+        "Error:Thermal Runaway, system stopped! Heater_ID: 0\nError:Printer halted. kill() called!\n");
   c.faults = parse_faults("disconnect-after=1");
   SimFirmware d(c);
   talk(d, "G1 X1\n", Micros{0});
   CHECK(d.state() == SimFirmware::State::disconnected);
   c.faults = parse_faults("resend-without-ok");
   SimFirmware n(c);
-  CHECK(talk(n, line(5, "G1 X1"), Micros{0}) == "Error:Line Number is not Last Line Number+1, Last Line: 0\nResend: 1\n");
+  CHECK(talk(n, line(5, "G1 X1"), Micros{0}) ==
+        "Error:Line Number is not Last Line Number+1, Last Line: 0\nResend: 1\n");
   c.faults = parse_faults("drop-ok=1");
   SimFirmware o(c);
   CHECK(talk(o, "G1 X1\nG1 X2\n", Micros{0}).empty());
@@ -165,9 +172,12 @@ TEST_CASE("fault specs: values checked, unknown names refused with the list") {
   CHECK(f.resend_without_ok);
   CHECK(f.disconnect_after == 5000);
   CHECK(f.seed == 3);
-  CHECK_THROWS_WITH_AS(parse_faults("noise=2"), "--faults: noise must be between 0 and 1", std::invalid_argument);
-  CHECK_THROWS_WITH_AS(parse_faults("reset-after=x"), "--faults: reset-after=x is not a number", std::invalid_argument);
-  CHECK_THROWS_WITH_AS(parse_faults("noise"), "--faults: noise needs a value (noise=…)", std::invalid_argument);
+  CHECK_THROWS_WITH_AS(parse_faults("noise=2"), "--faults: noise must be between 0 and 1",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(parse_faults("reset-after=x"), "--faults: reset-after=x is not a number",
+                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(parse_faults("noise"), "--faults: noise needs a value (noise=…)",
+                       std::invalid_argument);
   CHECK_THROWS_AS(parse_faults("explode=1"), std::invalid_argument);
 }
 

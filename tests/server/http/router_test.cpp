@@ -1,6 +1,6 @@
-#include <doctest/doctest.h>
-
 #include "server/http/router.hpp"
+
+#include <doctest/doctest.h>
 
 using namespace salient::server;
 
@@ -25,13 +25,16 @@ TEST_CASE("patterns fill named segments and match whole paths only") {
 
 TEST_CASE("dispatch: handlers, 404, 405 with Allow, 401, ApiError and unexpected errors as JSON") {
   Router router;
-  router.add("GET", "/healthz", Access::open, [](const HttpRequest&, const PathParams&) { return HttpResponse::text(200, "ok"); });
-  router.add("GET", "/api/v1/jobs/{id}", Access::key, [](const HttpRequest&, const PathParams& p) -> HttpResponse {
-    if (p.at("id") == "missing") throw ApiError(404, "not_found", "no job missing");
-    if (p.at("id") == "boom") throw std::runtime_error("disk on fire");
-    return HttpResponse::text(200, p.at("id"));
-  });
-  router.add("DELETE", "/api/v1/jobs/{id}", Access::key, [](const HttpRequest&, const PathParams&) { return HttpResponse::text(204, ""); });
+  router.add("GET", "/healthz", Access::open,
+             [](const HttpRequest&, const PathParams&) { return HttpResponse::text(200, "ok"); });
+  router.add("GET", "/api/v1/jobs/{id}", Access::key,
+             [](const HttpRequest&, const PathParams& p) -> HttpResponse {
+               if (p.at("id") == "missing") throw ApiError(404, "not_found", "no job missing");
+               if (p.at("id") == "boom") throw std::runtime_error("disk on fire");
+               return HttpResponse::text(200, p.at("id"));
+             });
+  router.add("DELETE", "/api/v1/jobs/{id}", Access::key,
+             [](const HttpRequest&, const PathParams&) { return HttpResponse::text(204, ""); });
   router.set_authenticator([](const HttpRequest& r) { return r.header("x-api-key") == "k"; });
 
   std::string route;

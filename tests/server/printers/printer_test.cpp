@@ -2,6 +2,8 @@
 // as the daemon does): connect, print exactly, pause and resume, cancel, the 409s, emergency
 // stop, and a stop in the middle of a print that leaves it resumable — and the resume finishes
 // exactly the rest of the file.
+#include "server/printers/printer.hpp"
+
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -13,7 +15,6 @@
 
 #include "protocol/marlin/line_codec.hpp"
 #include "server/http/router.hpp"
-#include "server/printers/printer.hpp"
 #include "server/printers/sim_process.hpp"
 #include "tests/support/scratch_dir.hpp"
 
@@ -48,12 +49,15 @@ std::vector<std::string> executed(const std::filesystem::path& log) {
   std::ifstream in(log);
   for (std::string line; std::getline(in, line);) {
     const std::string word = line.substr(0, line.find(' '));
-    if (!line.empty() && word != "M110" && word != "M115" && word != "M155" && word != "M105") out.push_back(line);
+    if (!line.empty() && word != "M110" && word != "M115" && word != "M155" && word != "M105")
+      out.push_back(line);
   }
   return out;
 }
 
-json status(const Printer& p) { return json::parse(p.status_json()); }
+json status(const Printer& p) {
+  return json::parse(p.status_json());
+}
 
 template <typename F>
 bool eventually(F&& ok, std::chrono::milliseconds limit = 20s) {
@@ -83,7 +87,9 @@ struct Fixture {
     h.changed = [this](const Printer&, bool progress) { ++(progress ? progress_events : state_events); };
     return h;
   }
-  PrintRequest file(const std::string& gcode) { return {std::nullopt, store.files().put(gcode), "test.gcode", 0}; }
+  PrintRequest file(const std::string& gcode) {
+    return {std::nullopt, store.files().put(gcode), "test.gcode", 0};
+  }
 };
 
 }  // namespace
@@ -158,7 +164,8 @@ TEST_CASE("a stop mid-print leaves it interrupted and resumable, and the resume 
     p.start();
     REQUIRE(eventually([&] { return p.state() == "operational"; }));
     id = p.print(f.file(gcode));
-    REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 200; }));
+    REQUIRE(
+        eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 200; }));
     p.stop();
     const auto r = PrintStore(f.store.db()).get(id);
     REQUIRE(r);
@@ -173,7 +180,8 @@ TEST_CASE("a stop mid-print leaves it interrupted and resumable, and the resume 
   p.start();
   REQUIRE(eventually([&] { return p.state() == "operational"; }));
   const auto record = PrintStore(f.store.db()).get(id);
-  p.print({record->job_id, record->file_digest, record->filename, static_cast<std::size_t>(record->confirmed)});
+  p.print(
+      {record->job_id, record->file_digest, record->filename, static_cast<std::size_t>(record->confirmed)});
   REQUIRE(eventually([&] { return p.state() == "operational"; }, 60s));
   CHECK(status(p)["last_print"]["state"] == "finished");
   p.stop();
@@ -187,7 +195,8 @@ TEST_CASE("a stop mid-print leaves it interrupted and resumable, and the resume 
 
 TEST_CASE("emergency stop halts the firmware, and the printer reports an error until connected again") {
   Fixture f("printer-estop");
-  Printer p(f.sim("--advanced-ok --emergency-parser --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
+  Printer p(f.sim("--advanced-ok --emergency-parser --time-scale 0.05 --heat-time-scale 0"), f.store,
+            f.hooks());
   p.start();
   REQUIRE(eventually([&] { return p.state() == "operational"; }));
   p.print(f.file(make_gcode(5000)));

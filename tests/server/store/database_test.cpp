@@ -1,13 +1,13 @@
+#include "server/store/database.hpp"
+
 #include <doctest/doctest.h>
 
 #include <filesystem>
 
-#include "server/store/database.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::server;
-
 
 TEST_CASE("a new database is migrated to the latest schema, in WAL mode") {
   const salient::test::ScratchDir scratch("new");
@@ -30,14 +30,17 @@ TEST_CASE("rows survive reopening, constraints hold, transactions roll back unle
   const fs::path& dir = scratch.path;
   {
     Database db(dir / "salient.db");
-    db.prepare("INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
-               "VALUES (?, 'queued', 'bunny.obj', 'm', '{}', 's', 1.5)")
+    db.prepare(
+          "INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
+          "VALUES (?, 'queued', 'bunny.obj', 'm', '{}', 's', 1.5)")
         .bind(1, std::string_view("j1"))
         .run();
-    CHECK_THROWS_AS(db.prepare("INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
-                               "VALUES ('j2', 'exploded', 'x', 'm', '{}', 's', 1)")
-                        .run(),
-                    StoreError);
+    CHECK_THROWS_AS(
+        db.prepare(
+              "INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
+              "VALUES ('j2', 'exploded', 'x', 'm', '{}', 's', 1)")
+            .run(),
+        StoreError);
     {
       Database::Transaction t(db);
       db.exec("UPDATE jobs SET state = 'running'");
@@ -62,5 +65,6 @@ TEST_CASE("a database from a newer salientd is refused with a reason, and bad SQ
     db.exec("PRAGMA user_version = 99");
     CHECK_THROWS_WITH_AS(db.prepare("SELEKT 1"), doctest::Contains("SQL error in \"SELEKT 1\""), StoreError);
   }
-  CHECK_THROWS_WITH_AS(Database(dir / "salient.db"), doctest::Contains("newer than this salientd"), StoreError);
+  CHECK_THROWS_WITH_AS(Database(dir / "salient.db"), doctest::Contains("newer than this salientd"),
+                       StoreError);
 }

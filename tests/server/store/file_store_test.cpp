@@ -1,15 +1,15 @@
+#include "server/store/file_store.hpp"
+
 #include <doctest/doctest.h>
 
 #include <filesystem>
 #include <fstream>
 
-#include "server/store/file_store.hpp"
 #include "server/store/sha256.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::server;
-
 
 TEST_CASE("files are stored under their digest, once, and read back intact") {
   const salient::test::ScratchDir scratch("files");

@@ -1,14 +1,14 @@
+#include "server/store/job_store.hpp"
+
 #include <doctest/doctest.h>
 
 #include <filesystem>
 #include <set>
 
-#include "server/store/job_store.hpp"
 #include "tests/support/scratch_dir.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::server;
-
 
 TEST_CASE("jobs: created queued, started oldest first, finished once, listed newest first") {
   const salient::test::ScratchDir scratch("jobs");
@@ -25,7 +25,8 @@ TEST_CASE("jobs: created queued, started oldest first, finished once, listed new
   jobs.set_progress(a.id, "saliency", 0.25);
   CHECK(jobs.get(a.id)->phase == "saliency");
   CHECK(jobs.finish(a.id, JobState::done, std::nullopt, std::string(R"({"layers": 539})"), 13));
-  CHECK_FALSE(jobs.finish(a.id, JobState::failed, std::string("late"), std::nullopt, 14));  // already finished
+  CHECK_FALSE(
+      jobs.finish(a.id, JobState::failed, std::string("late"), std::nullopt, 14));  // already finished
   const Job done = *jobs.get(a.id);
   CHECK(done.state == JobState::done);
   CHECK(done.progress == 1);
@@ -62,7 +63,8 @@ TEST_CASE("jobs: a restart puts running jobs back in the queue, with their attem
 }
 
 TEST_CASE("job states round-trip through their names") {
-  for (JobState st : {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
+  for (JobState st :
+       {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
     CHECK(job_state_from(to_string(st)) == st);
   CHECK_FALSE(job_state_from("exploded"));
 }

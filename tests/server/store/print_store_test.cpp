@@ -1,6 +1,7 @@
+#include "server/store/print_store.hpp"
+
 #include <doctest/doctest.h>
 
-#include "server/store/print_store.hpp"
 #include "server/store/store.hpp"
 #include "tests/support/scratch_dir.hpp"
 
