@@ -13,6 +13,30 @@ HttpResponse error_response(int status, const std::string& code, const std::stri
   return r;
 }
 
+int status_of(ErrorKind kind) {
+  switch (kind) {
+    case ErrorKind::bad_request:
+      return 400;
+    case ErrorKind::not_found:
+      return 404;
+    case ErrorKind::conflict:
+      return 409;
+    case ErrorKind::unsupported:
+      return 415;
+    case ErrorKind::unprocessable:
+      return 422;
+    case ErrorKind::too_busy:
+      return 429;
+  }
+  return 500;
+}
+
+HttpResponse domain_error_response(const DomainError& e) {
+  HttpResponse r = error_response(status_of(e.kind()), e.code(), e.what());
+  if (e.retry_after()) r.headers.emplace_back("Retry-After", std::to_string(*e.retry_after()));
+  return r;
+}
+
 void Router::add(std::string method, std::string pattern, Access access, Handler handler) {
   std::string name = pattern;
   routes_.push_back({std::move(method), std::move(pattern), access, std::move(handler), std::move(name)});
@@ -76,6 +100,8 @@ HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_nam
       HttpResponse r = error_response(e.status(), e.code(), e.what());
       r.headers.insert(r.headers.end(), e.headers().begin(), e.headers().end());
       return r;
+    } catch (const DomainError& e) {
+      return domain_error_response(e);
     } catch (const std::exception& e) {
       if (map_exception_)
         if (auto r = map_exception_(e, route.name)) return *r;

@@ -1,6 +1,7 @@
 // Router: every endpoint declared once, with its method, path pattern ("/api/v1/jobs/{id}"),
-// access (open, or an API key) and handler. Handlers throw ApiError for a client's mistake; the
-// router turns it, and anything unexpected, into the JSON error body {"error": {code, message}}.
+// access (open, or an API key) and handler. Handlers throw ApiError (or services a DomainError) for a
+// client's mistake; the router turns it, and anything unexpected, into the JSON error body {"error": {code,
+// message}}.
 #pragma once
 
 #include <functional>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "server/common/domain_error.hpp"
 #include "server/http/http_message.hpp"
 
 namespace salient::server {
@@ -33,6 +35,9 @@ class ApiError : public std::runtime_error {
 };
 
 HttpResponse error_response(int status, const std::string& code, const std::string& message);
+// The one place a DomainError's kind becomes a status (and Retry-After).
+int status_of(ErrorKind kind);
+HttpResponse domain_error_response(const DomainError& e);
 
 using PathParams = std::map<std::string, std::string>;
 using Handler = std::function<HttpResponse(const HttpRequest&, const PathParams&)>;
