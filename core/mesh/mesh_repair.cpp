@@ -279,12 +279,6 @@ std::vector<std::string> RepairReport::lines() const {
   return out;
 }
 
-RepairReport inspect_mesh(const Mesh& mesh) {
-  RepairReport report;
-  analyse(mesh, report, nullptr);
-  return report;
-}
-
 RepairReport repair_mesh(Mesh& mesh, const RepairOptions& options) {
   RepairReport report;
   report.vertices_welded = weld(mesh, options.weld_tolerance * bounding_box(mesh).diagonal());

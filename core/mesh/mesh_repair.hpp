@@ -35,7 +35,4 @@ struct RepairReport {
 // a mesh can end with no triangles (the caller decides whether that is an error).
 RepairReport repair_mesh(Mesh& mesh, const RepairOptions& options = {});
 
-// Edge statistics only (no changes): boundary, non-manifold, components, orientability.
-RepairReport inspect_mesh(const Mesh& mesh);
-
 }  // namespace salient::core

@@ -17,7 +17,6 @@ class VertexAdjacency {
     return {ids_.data() + start_[v], ids_.data() + start_[v + 1]};
   }
   std::size_t vertex_count() const { return start_.size() - 1; }
-  std::size_t edge_count() const { return ids_.size() / 2; }
 
  private:
   std::vector<std::uint32_t> start_;

@@ -80,23 +80,6 @@ std::size_t EventHub::subscribers() const {
   return subscribers_.size();
 }
 
-void EventHub::close_all(const std::string& reason) {
-  std::vector<std::shared_ptr<Subscription>> all;
-  {
-    std::lock_guard lock(mutex_);
-    all = subscribers_;
-  }
-  for (const auto& s : all) {
-    std::function<void()> wake;
-    {
-      std::lock_guard lock(s->mutex_);
-      if (s->overflow_.empty()) s->overflow_ = reason;
-      wake = s->wake_;
-    }
-    if (wake) wake();
-  }
-}
-
 void EventHub::remove(const Subscription* s) {
   std::lock_guard lock(mutex_);
   std::erase_if(subscribers_, [s](const auto& p) { return p.get() == s; });

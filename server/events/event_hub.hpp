@@ -92,7 +92,6 @@ class EventHub {
                Delivery delivery = Delivery::always);
   bool has_subscribers(const std::string& topic) const;
   std::size_t subscribers() const;
-  void close_all(const std::string& reason);  // shutdown: every client is told to go
 
   static bool valid_topic(const std::string& topic);
   static std::string message(const std::string& topic, const std::string& type, const std::string& data_json);

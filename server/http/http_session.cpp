@@ -1,0 +1,310 @@
+// One HTTP connection: the header is read and judged first (404, 405, 401, 503 for the body
+// budget), then the body, each read with its own timeout, so an upload is cut only when it stalls.
+#include <fcntl.h>
+
+#include <algorithm>
+#include <array>
+#include <boost/asio/dispatch.hpp>
+#include <boost/asio/post.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket/rfc6455.hpp>
+#include <optional>
+
+#include "server/http/http_shared.hpp"
+
+namespace salient::server::http_internal {
+
+namespace websocket = beast::websocket;
+
+// After a response that ends the connection, what the client still sends is read and dropped for
+// a while: closing with unread bytes resets the connection, and the client may lose the response.
+constexpr std::size_t kLingerBytes = 1u << 20;
+constexpr std::chrono::seconds kLingerTime{2};
+
+void set_cloexec(int fd) {
+  if (fd >= 0) ::fcntl(fd, F_SETFD, ::fcntl(fd, F_GETFD) | FD_CLOEXEC);
+}
+
+class Session : public std::enable_shared_from_this<Session> {
+ public:
+  Session(tcp::socket socket, Shared& shared, std::shared_ptr<ConnectionSlot> slot)
+      : stream_(std::move(socket)),
+        executor_(stream_.get_executor()),
+        shared_(shared),
+        slot_(std::move(slot)) {}
+  ~Session() { release_body(); }
+
+  void start() {
+    asio::dispatch(executor_, [self = shared_from_this()] { self->read_header(); });
+  }
+
+  // Graceful stop: an idle connection closes now, a busy one after its response.
+  void stop() {
+    // Posted to the strand (never touching stream_ from here: an upgrade may be moving it).
+    asio::post(executor_, [self = shared_from_this()] {
+      if (self->upgraded_) return;
+      self->closing_ = true;
+      if (!self->busy_ || self->reading_body_) self->close();  // a body still arriving is not waited for
+    });
+  }
+
+  // After a handler threw out of Beast (run() caught it), no operation is left to end the
+  // session; its stream's timer closes the socket, and this takes it off the books.
+  void sweep() {
+    asio::post(executor_, [self = shared_from_this()] {
+      if (!self->upgraded_ && !self->stream_.socket().is_open()) self->close();
+    });
+  }
+
+ private:
+  // Runs a step; an exception it lets through is a bug: a 500 for this request and a log line.
+  template <class F>
+  void guarded(F&& step) {
+    try {
+      step();
+    } catch (const std::exception& e) {
+      internal_error(e.what());
+    } catch (...) {
+      internal_error("unknown exception");
+    }
+  }
+
+  void internal_error(const std::string& what) {
+    shared_.log("http internal error: route=" + route_ + " " + what.substr(0, 512));
+    if (writing_) return close();
+    reply_error(500, "internal", "internal error (logged)");
+  }
+
+  void read_header() {
+    if (closing_) return close();
+    parser_.emplace();
+    parser_->body_limit(shared_.options.body_limit);
+    parser_->header_limit(kHeaderLimit);
+    route_ = "unmatched";
+    method_ = "OTHER";
+    stream_.expires_after(shared_.options.timeout);
+    http::async_read_header(stream_, buffer_, *parser_,
+                            [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                              self->guarded([&] { self->on_header(ec); });
+                            });
+  }
+
+  bool read_failed(beast::error_code ec) {
+    if (!ec) return false;
+    // A timeout has closed the socket already (Beast's stream does): nothing can be answered.
+    if (ec == http::error::end_of_stream || ec == asio::error::operation_aborted || ec == asio::error::eof ||
+        ec == asio::error::connection_reset || ec == beast::error::timeout)
+      close();
+    else if (ec == http::error::header_limit)
+      reply_error(431, "header_too_large",
+                  "the request's header exceeds " + std::to_string(kHeaderLimit) + " bytes");
+    else if (ec == http::error::body_limit)
+      reply_error(413, "too_large",
+                  "the body exceeds the limit of " + std::to_string(shared_.options.body_limit) + " bytes");
+    else
+      reply_error(400, "bad_request", "malformed HTTP request: " + ec.message());
+    return true;
+  }
+
+  void on_header(beast::error_code ec) {
+    if (read_failed(ec)) return;
+    busy_ = true;
+    started_ = Clock::now();
+    auto& in = parser_->get();
+    request_ = HttpRequest{};
+    request_.method = std::string(in.method_string());
+    // Metrics and logs get one label for every unknown method, whatever its bytes.
+    method_ = in.method() == http::verb::unknown ? "OTHER" : request_.method;
+    request_.target = std::string(in.target());
+    for (const auto& field : in) {
+      std::string name(field.name_string());
+      std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+      request_.headers[name] = std::string(field.value());
+    }
+    request_.remote = slot_->address();
+    // RFC 9112 §6.3: a request whose codings do not end with chunked has no knowable length; its
+    // bytes must not be read as the next request (smuggling). 400, and the connection goes.
+    if (in.find(http::field::transfer_encoding) != in.end() && !parser_->chunked())
+      return reply_error(400, "bad_request", "Transfer-Encoding must end with chunked");
+    if (!split_target(request_.target, request_.path, request_.query))
+      return respond(error_response(400, "bad_request", "malformed percent-encoding in the URL"), false);
+    // An upgrade is judged by the WebSocket acceptor (its own paths and key); anything else by the router.
+    const bool upgrade = websocket::is_upgrade(in) && shared_.options.websocket;
+    if (!upgrade)
+      if (auto refused = shared_.router.refusal(request_, &route_))
+        return respond(std::move(*refused), false);
+    if (parser_->is_done()) return on_request();
+    const auto length = parser_->content_length();
+    if (!reserve_body(length ? *length : shared_.options.body_limit)) {
+      HttpResponse busy =
+          error_response(503, "busy", "too many request bodies are being received: try again shortly");
+      busy.headers.emplace_back("Retry-After", "5");
+      return respond(std::move(busy), false);
+    }
+    if (beast::iequals(in[http::field::expect], "100-continue")) {
+      auto go_on = std::make_shared<http::response<http::empty_body>>(http::status::continue_, 11);
+      stream_.expires_after(shared_.options.timeout);
+      return http::async_write(stream_, *go_on,
+                               [self = shared_from_this(), go_on](beast::error_code ec, std::size_t) {
+                                 if (ec) return self->close();
+                                 self->guarded([&] { self->read_body(); });
+                               });
+    }
+    read_body();
+  }
+
+  void read_body() {
+    reading_body_ = !parser_->is_done();
+    if (!reading_body_) return on_request();
+    stream_.expires_after(shared_.options.timeout);
+    http::async_read_some(stream_, buffer_, *parser_,
+                          [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                            self->guarded([&] {
+                              if (!self->read_failed(ec)) self->read_body();
+                            });
+                          });
+  }
+
+  void on_request() {
+    auto& in = parser_->get();
+    request_.body = std::move(in.body());
+    if (websocket::is_upgrade(in) && shared_.options.websocket) {
+      route_ = "websocket";
+      WebSocketAccept accepted = shared_.options.websocket(request_);
+      if (accepted.channel) return upgrade(std::move(accepted.channel));
+      return respond(std::move(accepted.refusal), false);
+    }
+    HttpResponse response = shared_.router.dispatch(request_, &route_);
+    release_body();
+    respond(std::move(response), in.keep_alive());
+  }
+
+  // Hands the connection to a WebSocket session; this HTTP session ends here.
+  void upgrade(std::shared_ptr<WebSocketChannel> channel) {
+    upgraded_ = true;  // from here on stream_ is the WebSocket's
+    {
+      std::lock_guard lock(shared_.mutex);
+      shared_.sessions.erase(shared_from_this());
+    }
+    if (shared_.options.on_response) shared_.options.on_response(method_, route_, 101, elapsed());
+    start_websocket(std::move(stream_), std::move(channel), shared_, std::move(slot_), parser_->release());
+  }
+
+  // A request that was answered: written, then logged and counted.
+  void respond(HttpResponse response, bool keep_alive) {
+    keep_alive_ = keep_alive && parser_->is_done() && !closing_;
+    const bool head = parser_->is_header_done() && parser_->get().method() == http::verb::head;
+    write(std::move(response), head);
+    if (shared_.options.on_response)
+      shared_.options.on_response(method_, route_, response_status_, elapsed());
+  }
+
+  // A request that could not be read: the stream is not in a known state any more.
+  void reply_error(int status, const std::string& code, const std::string& message) {
+    busy_ = true;
+    keep_alive_ = false;
+    if (route_ == "unmatched") route_ = "invalid";
+    write(error_response(status, code, message), false);
+    if (shared_.options.on_response) shared_.options.on_response(method_, route_, status, elapsed());
+  }
+
+  void write(HttpResponse r, bool head) {
+    response_status_ = r.status;
+    auto out = std::make_shared<http::response<http::string_body>>(static_cast<http::status>(r.status), 11);
+    out->set(http::field::server, "salientd");
+    out->set(http::field::content_type, r.content_type);
+    for (const auto& [name, value] : r.headers) out->set(name, value);
+    out->keep_alive(keep_alive_);
+    out->body() = std::move(r.body);
+    out->prepare_payload();
+    if (head) out->body().clear();
+    stream_.expires_after(shared_.options.timeout);
+    writing_ = true;
+    http::async_write(stream_, *out, [self = shared_from_this(), out](beast::error_code ec, std::size_t) {
+      self->writing_ = false;
+      self->busy_ = false;
+      self->release_body();
+      if (ec) return self->close();
+      if (!self->keep_alive_ || self->closing_) return self->linger();
+      self->read_header();
+    });
+  }
+
+  // Half-closes, then drops what the client still sends until it closes too (or for a while).
+  void linger() {
+    beast::error_code ignored;
+    stream_.socket().shutdown(tcp::socket::shutdown_send, ignored);
+    if (!linger_started_) linger_started_ = true, linger_until_ = Clock::now() + kLingerTime;
+    if (lingered_ >= kLingerBytes || Clock::now() >= linger_until_) return close();
+    stream_.expires_at(linger_until_);
+    stream_.async_read_some(asio::buffer(scratch_),
+                            [self = shared_from_this()](beast::error_code ec, std::size_t n) {
+                              self->lingered_ += n;
+                              if (ec) return self->close();
+                              self->linger();
+                            });
+  }
+
+  void close() {
+    release_body();
+    beast::error_code ec;
+    stream_.socket().shutdown(tcp::socket::shutdown_both, ec);
+    stream_.close();
+    std::lock_guard lock(shared_.mutex);
+    shared_.sessions.erase(shared_from_this());
+  }
+
+  bool reserve_body(std::size_t bytes) {
+    std::lock_guard lock(shared_.limits_mutex);
+    if (shared_.bodies_in_flight + bytes > shared_.options.max_bodies_in_flight) return false;
+    shared_.bodies_in_flight += bytes;
+    reserved_ = bytes;
+    return true;
+  }
+
+  void release_body() {
+    if (reserved_ == 0) return;
+    std::lock_guard lock(shared_.limits_mutex);
+    shared_.bodies_in_flight -= reserved_;
+    reserved_ = 0;
+  }
+
+  double elapsed() const { return std::chrono::duration<double>(Clock::now() - started_).count(); }
+
+  beast::tcp_stream stream_;
+  asio::any_io_executor executor_;  // the connection's strand, kept apart from stream_
+  Shared& shared_;
+  std::shared_ptr<ConnectionSlot> slot_;
+  // Bytes not parsed yet. Capped: Beast parses a chunked body's trailer with no header limit and
+  // throws on a field over 64 KiB; a trailer that does not fit here is a 400 instead.
+  beast::flat_buffer buffer_{2 * kHeaderLimit};
+  std::optional<http::request_parser<http::string_body>> parser_;
+  HttpRequest request_;
+  std::string method_ = "OTHER", route_ = "unmatched";
+  Clock::time_point started_ = Clock::now();
+  bool busy_ = false, keep_alive_ = false, closing_ = false, writing_ = false, reading_body_ = false;
+  bool linger_started_ = false, upgraded_ = false;
+  int response_status_ = 0;
+  std::size_t reserved_ = 0, lingered_ = 0;
+  Clock::time_point linger_until_{};
+  std::array<char, 4096> scratch_{};
+};
+
+void start_session(tcp::socket socket, Shared& shared, std::shared_ptr<ConnectionSlot> slot) {
+  auto session = std::make_shared<Session>(std::move(socket), shared, std::move(slot));
+  {
+    std::lock_guard lock(shared.mutex);
+    shared.sessions.insert(session);
+  }
+  session->start();
+}
+
+void stop_session(const std::shared_ptr<Session>& session) {
+  session->stop();
+}
+void sweep_session(const std::shared_ptr<Session>& session) {
+  session->sweep();
+}
+
+}  // namespace salient::server::http_internal
