@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/common/progress.hpp"
+#include "core/export/plan_document.hpp"
 #include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 #include "core/printer/printer_profile.hpp"
@@ -41,6 +42,7 @@ struct SliceResult {
   std::string plot_svg, model_3mf, saliency_ply;
   std::optional<OrientationReport> orientation;  // with --up auto: the candidates and the choice
   std::optional<SegOptResult> segmentation;      // with plan.segment: the regions and the decision
+  PlanDocument plan;  // the plan as `salient plan -o` writes it (with plan.segment, as --segment -o)
 };
 
 // Throws InputError naming the option or file at fault, Cancelled when run.cancel fires.
