@@ -1,7 +1,8 @@
 // slice_model: the whole chain from a model file to G-code — load, place on the printer's bed,
 // saliency, plan, toolpaths (and support), G-code — as the CLI's `slice` and the daemon's jobs
-// run it. Phases reported through RunContext: load, saliency, profile, plan (then the planner's
-// own name), toolpaths, gcode.
+// run it. Phases reported through RunContext, in order: orient (with up "auto"), load, saliency
+// (or lee05), profile, plan (then the planner's own name) or segment (SegOpt, with its planners'
+// names inside), toolpaths, gcode. The daemon maps them onto job phases (server/jobs/job_progress).
 #pragma once
 
 #include <optional>
