@@ -16,6 +16,8 @@ build_packages=(
   # end-to-end tests speak to the daemon as users do (pgrep/pkill: procps; mount, for the full-disk
   # test on a tmpfs: util-linux)
   curl python3 procps util-linux
+  # the plan-format test validates every plan writer's output against docs/plan.schema.json
+  python3-jsonschema
   # `make format-check`, which CI runs: the one formatter version the tree is written with
   clang-format
 )

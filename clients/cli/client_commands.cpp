@@ -11,6 +11,7 @@
 #include "clients/cli/commands.hpp"
 #include "clients/cli/daemon_client.hpp"
 #include "core/common/input_error.hpp"
+#include "server/jobs/job_state.hpp"
 
 namespace salient::cli {
 namespace {
@@ -42,19 +43,26 @@ std::string fixed(double v, int digits) {
   return buf;
 }
 
+// The job's state in the daemon's JSON, by the daemon's own name table; empty for a name this
+// salient does not know (a newer daemon's).
+std::optional<server::JobState> state_of(const json& job) {
+  return server::job_state_from(job.value("state", ""));
+}
+
 // One line about a job: "j3f…  running  saliency  42%" or the result when done.
 std::string describe_job(const json& j) {
   std::string line = j.value("id", "") + "  " + j.value("state", "") + "  " + j.value("filename", "");
-  const std::string state = j.value("state", "");
-  if (state == "running" || state == "queued")
+  const auto state = state_of(j);
+  if (state == server::JobState::running || state == server::JobState::queued)
     line += "  " + j.value("phase", "") + " " + fixed(100 * j.value("progress", 0.0), 0) + "%";
-  if (state == "done" && j.contains("result")) {
+  if (state == server::JobState::done && j.contains("result")) {
     const json& r = j["result"];
     line += "  " + std::to_string(r.value("layers", 0)) + " layers (finest " +
             std::to_string(r.value("finest_layers", 0)) + ", " + fixed(100 * r.value("saving", 0.0), 1) +
             "% fewer), print " + fixed(r.value("print_seconds", 0.0) / 60, 1) + " min";
   }
-  if (state == "failed" && j["error"].is_string()) line += "  error: " + j["error"].get<std::string>();
+  if (state == server::JobState::failed && j["error"].is_string())
+    line += "  error: " + j["error"].get<std::string>();
   return line;
 }
 
@@ -64,7 +72,7 @@ void progress_bar(const json& j) {
   std::fprintf(
       stderr, "\r[%s%s] %3d%% %-10s", std::string(static_cast<std::size_t>(filled), '#').c_str(),
       std::string(static_cast<std::size_t>(30 - filled), ' ').c_str(), static_cast<int>(p * 100),
-      j.value("state", "") == "running" ? j.value("phase", "").c_str() : j.value("state", "").c_str());
+      state_of(j) == server::JobState::running ? j.value("phase", "").c_str() : j.value("state", "").c_str());
   std::fflush(stderr);
 }
 
@@ -81,16 +89,16 @@ json follow_job(DaemonClient& client, const std::string& id, bool bar, bool json
       progress_bar(last);
     else
       std::printf("%s\n", describe_job(last).c_str()), std::fflush(stdout);
-    const std::string state = last.value("state", "");
-    return !(state == "done" || state == "failed" || state == "cancelled");
+    const auto state = state_of(last);
+    return !(state && server::finished(*state));
   });
   if (bar && !json_lines) std::fprintf(stderr, "\n");
   return last;
 }
 
 int exit_status(const json& job) {
-  const std::string state = job.value("state", "");
-  return state == "done" ? 0 : state == "cancelled" ? 130 : 1;
+  const auto state = state_of(job);
+  return state == server::JobState::done ? 0 : state == server::JobState::cancelled ? 130 : 1;
 }
 
 template <typename F>

@@ -4,11 +4,12 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
-#include <nlohmann/json.hpp>
+#include <iterator>
 
 #include "clients/cli/cli_options.hpp"
 #include "clients/cli/commands.hpp"
 #include "core/common/input_error.hpp"
+#include "core/export/plan_json.hpp"
 #include "core/export/three_mf.hpp"
 
 namespace salient::cli {
@@ -19,32 +20,14 @@ struct ExportOptions {
   std::string plan, output;
 };
 
-// Layer boundaries from a plan written by `salient plan -o`; errors name the file and field.
+// Layer boundaries from a plan file (any salient-plan: `salient plan -o`, `plan --segment -o`, the
+// daemon's /plan); errors name the file and field.
 std::vector<double> read_plan_boundaries(const std::string& path) {
   const std::string name = std::filesystem::path(path).filename().string();
-  std::ifstream in(path);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw core::InputError(name, {}, "cannot open for reading");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw core::InputError(name, core::InputLocation::at_byte(e.byte), "not valid JSON");
-  }
-  if (!j.contains("layers") || !j["layers"].is_array() || j["layers"].empty())
-    throw core::InputError(name, {},
-                           "field 'layers' is missing or empty (write plans with `salient plan -o`)");
-  std::vector<double> z{0};
-  for (std::size_t i = 0; i < j["layers"].size(); ++i) {
-    const auto& l = j["layers"][i];
-    if (!l.contains("z_top") || !l["z_top"].is_number())
-      throw core::InputError(name, {},
-                             "field 'layers[" + std::to_string(i) + "].z_top' is missing or not a number");
-    const double top = l["z_top"].get<double>();
-    if (!(top > z.back()))
-      throw core::InputError(name, {}, "field 'layers[" + std::to_string(i) + "].z_top' does not rise");
-    z.push_back(top);
-  }
-  return z;
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return core::read_plan_json(text, name).boundaries();
 }
 
 }  // namespace
@@ -53,7 +36,9 @@ void add_export_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<ExportOptions>();
   CLI::App* cmd = app.add_subcommand("export-3mf", "Write the model and a plan as a 3MF for PrusaSlicer");
   add_mesh_options(*cmd, o->mesh, true);
-  cmd->add_option("PLAN", o->plan, "Plan JSON from `salient plan -o` (same --up/--height/--scale as then)")
+  cmd->add_option("PLAN", o->plan,
+                  "Plan JSON from `salient plan -o` (also --segment) or salientd's /plan (same "
+                  "--up/--height/--scale as then)")
       ->required();
   cmd->add_option("-o,--output", o->output, "3MF file to write")->required();
   cmd->callback([o, &action] {

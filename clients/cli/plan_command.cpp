@@ -3,12 +3,13 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
-#include <nlohmann/json.hpp>
 
 #include "clients/cli/cli_options.hpp"
 #include "clients/cli/commands.hpp"
 #include "clients/cli/segment_report.hpp"
 #include "core/common/input_error.hpp"
+#include "core/export/plan_json.hpp"
+#include "core/pipeline/plan_report.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/segment/regions_svg.hpp"
@@ -22,45 +23,6 @@ struct PlanCommandOptions {
   bool json = false;
   std::string output, svg;
 };
-
-nlohmann::json plan_json(const core::PlanningSetup& s, const std::string& planner, const core::PlanResult& r,
-                         double seconds, const core::PlanTarget& target) {
-  const core::Objective& obj = *s.objective;
-  const core::ZProfile& p = *s.profile;
-  nlohmann::json layers = nlohmann::json::array();
-  for (const core::LayerReport& l : obj.layers(r.plan))
-    layers.push_back({{"z_bottom", l.z_bottom},
-                      {"z_top", l.z_top},
-                      {"height", l.height},
-                      {"saliency", l.saliency},
-                      {"cos", l.cos},
-                      {"sm", l.sm}});
-  nlohmann::json trace = nlohmann::json::array();
-  for (const core::PlanStep& step : r.trace)
-    trace.push_back({{"step", step.step}, {"layers", step.layers}, {"E", step.error}});
-  nlohmann::json j = {
-      {"planner", planner},
-      {"metric", std::string(core::metric_name(obj.metric()))},
-      {"count", r.plan.layer_count()},
-      {"E", obj.error(r.plan)},
-      {"epsilon", target.epsilon ? nlohmann::json(*target.epsilon) : nlohmann::json(nullptr)},
-      {"rho", target.epsilon ? nlohmann::json(s.rho) : nlohmann::json(nullptr)},
-      {"requested_layers", target.layers ? nlohmann::json(*target.layers) : nlohmann::json(nullptr)},
-      {"rsmd", obj.rsmd(r.plan)},
-      {"seconds", seconds},
-      {"height", p.height()},
-      {"grid", p.grid()},
-      {"min_layer", p.params().min_layer},
-      {"max_layer", p.params().max_layer},
-      {"fine_layers", p.most_layers()},
-      {"coarse_layers", p.fewest_layers()},
-      {"saving_vs_fine", 1.0 - static_cast<double>(r.plan.layer_count()) / p.most_layers()},
-      {"layers", layers},
-  };
-  if (!r.note.empty()) j["note"] = r.note;
-  if (!trace.empty()) j["trace"] = trace;
-  return j;
-}
 
 void write_file(const std::string& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -79,23 +41,17 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
   const core::SegOptResult r = core::segment_model(setup, planner, {}, *printer, {}, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const core::ZProfile& p = *setup.profile;
-  const std::vector<double> heights = core::printed_heights(p, r.regions);
-  nlohmann::json j = {{"planner", o.plan.planner},
-                      {"metric", o.plan.metric},
-                      {"rho", setup.rho},
-                      {"count", heights.size()},
-                      {"fine_layers", p.most_layers()},
-                      {"seconds", seconds},
-                      {"printed_heights", heights},
-                      {"segmentation", segmentation_json(r, p)}};
-  if (!o.output.empty()) write_file(o.output, j.dump(2) + "\n");
   const std::string name = std::filesystem::path(o.plan.mesh.model).filename().string();
+  const core::PlanDocument plan = core::segmented_plan_document(setup, name, o.plan.planner, r, seconds);
+  const std::string text = core::plan_json(plan);
+  if (!o.output.empty()) write_file(o.output, text);
+  const std::vector<double> heights = core::printed_heights(p, r.regions);
   if (!o.svg.empty())
     write_file(o.svg, core::regions_svg(p, r.regions,
                                         name + " — " + o.plan.planner + "+segopt, " +
                                             std::to_string(heights.size()) + " printed layers"));
   if (o.json) {
-    std::printf("%s\n", j.dump(2).c_str());
+    std::fputs(text.c_str(), stdout);
     return 0;
   }
   std::printf("%s: %s planner with SegOpt, %s metric, %s saliency\n", name.c_str(), o.plan.planner.c_str(),
@@ -134,15 +90,16 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       const auto t0 = std::chrono::steady_clock::now();
       const core::PlanResult result = planner->plan(setup->request(target));
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const nlohmann::json j = plan_json(*setup, o->plan.planner, result, seconds, target);
-      if (!o->output.empty()) write_file(o->output, j.dump(2) + "\n");
       const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
+      const std::string text =
+          core::plan_json(core::plan_document(*setup, name, o->plan.planner, result, target, seconds));
+      if (!o->output.empty()) write_file(o->output, text);
       if (!o->svg.empty())
         write_file(o->svg, core::plan_svg(*setup->objective, result.plan,
                                           name + " — " + o->plan.planner + ", " +
                                               std::to_string(result.plan.layer_count()) + " layers"));
       if (o->json) {
-        std::printf("%s\n", j.dump(2).c_str());
+        std::fputs(text.c_str(), stdout);
         return 0;
       }
       const core::ZProfile& p = *setup->profile;

@@ -33,42 +33,4 @@ void print_segmentation(const core::SegOptResult& r, const core::ZProfile& whole
                 region.layers(), region.error, region.epsilon);
 }
 
-nlohmann::json segmentation_json(const core::SegOptResult& r, const core::ZProfile& whole) {
-  nlohmann::json regions = nlohmann::json::array();
-  for (const core::PlanRegion& region : r.regions) {
-    nlohmann::json z = nlohmann::json::array();
-    for (int b : region.plan.boundaries) z.push_back(whole.z(b));
-    nlohmann::json clip = nlohmann::json::array();
-    for (const core::Point2& p : region.clip) clip.push_back({p.x, p.y});
-    regions.push_back({{"side", region.side},
-                       {"sub", region.sub},
-                       {"z_bottom", whole.z(region.first_cell)},
-                       {"z_top", whole.z(region.last_cell)},
-                       {"layers", region.layers()},
-                       {"E", region.error},
-                       {"epsilon", region.epsilon},
-                       {"boundaries", z},
-                       {"clip", clip}});
-  }
-  nlohmann::json slabs = nlohmann::json::array();
-  for (const core::Slab& s : r.slabs)
-    slabs.push_back({{"z_bottom", whole.z(s.first_cell)},
-                     {"z_top", whole.z(s.last_cell)},
-                     {"merged", s.merged},
-                     {"loss", {s.loss[0], s.loss[1]}}});
-  nlohmann::json j = {{"cut", r.cut},
-                      {"note", r.note},
-                      {"whole_seconds", r.whole_seconds},
-                      {"parts_seconds", r.parts_seconds},
-                      {"seconds", r.seconds},
-                      {"regions", regions},
-                      {"slabs", slabs}};
-  if (r.seam)
-    j["plane"] = {{"nx", r.seam->plane.nx},         {"ny", r.seam->plane.ny},
-                  {"offset", r.seam->plane.offset}, {"cost", r.seam->cost},
-                  {"seam_mean", r.seam->seam_mean}, {"difference", r.seam->difference},
-                  {"length", r.seam->length},       {"share", r.seam->share}};
-  return j;
-}
-
 }  // namespace salient::cli

@@ -1,7 +1,5 @@
-// How the CLI shows a SegOpt result: text lines and JSON.
+// How the CLI shows a SegOpt result as text (its JSON is core/export/plan_json's, as the daemon's).
 #pragma once
-
-#include <nlohmann/json.hpp>
 
 #include "core/segment/seg_opt.hpp"
 
@@ -9,7 +7,5 @@ namespace salient::cli {
 
 // "segmentation: cut: 2 regions …" and one line per region.
 void print_segmentation(const core::SegOptResult& result, const core::ZProfile& whole);
-
-nlohmann::json segmentation_json(const core::SegOptResult& result, const core::ZProfile& whole);
 
 }  // namespace salient::cli

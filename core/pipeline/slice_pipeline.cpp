@@ -1,6 +1,7 @@
 #include "core/pipeline/slice_pipeline.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <filesystem>
 
 #include "core/common/input_error.hpp"
@@ -8,6 +9,7 @@
 #include "core/gcode/gcode_writer.hpp"
 #include "core/mesh/ply_writer.hpp"
 #include "core/pipeline/auto_orient.hpp"
+#include "core/pipeline/plan_report.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
 #include "core/render/saliency_preview.hpp"
 #include "core/segment/regions_svg.hpp"
@@ -41,6 +43,11 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   std::vector<PlanRegion> regions;
   SliceResult out;
   out.orientation = std::move(orientation);
+  out.model_name = std::filesystem::path(plan.mesh.model).filename().string();
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto planning_seconds = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
   if (plan.segment) {
     SegOptOptions options;
     options.depth = plan.segment_depth;
@@ -51,13 +58,18 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
     for (const PlanRegion& r : regions) e_coarse += setup->rho > 0 ? r.epsilon / setup->rho : 0;
     out.error = regions_error(regions);
     out.rsmd = e_coarse > 0 ? out.error / e_coarse : 0;
+    out.plan =
+        segmented_plan_document(*setup, out.model_name, plan.planner, *out.segmentation, planning_seconds());
   } else {
     run.report("plan", 0);
-    PlanRequest request = setup->request(target_of(plan, *setup));
+    const PlanTarget target = target_of(plan, *setup);
+    PlanRequest request = setup->request(target);
     request.run = run;
+    const PlanResult planned = planner->plan(request);
+    out.plan = plan_document(*setup, out.model_name, plan.planner, planned, target, planning_seconds());
     PlanRegion whole;
     whole.last_cell = p.cells();
-    whole.plan = planner->plan(request).plan;
+    whole.plan = planned.plan;
     out.error = setup->objective->error(whole.plan);
     out.rsmd = setup->objective->rsmd(whole.plan);
     regions = {std::move(whole)};
@@ -69,7 +81,6 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   auto toolpaths = region_toolpaths(setup->model.loaded.mesh, p, regions, region_settings, run);
   run.check();
   run.report("gcode", 0);
-  out.model_name = std::filesystem::path(plan.mesh.model).filename().string();
   out.layers = static_cast<int>(out.z.size());
   out.finest_layers = p.most_layers();
   GcodeSettings gs;

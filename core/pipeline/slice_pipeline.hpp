@@ -1,7 +1,8 @@
 // slice_model: the whole chain from a model file to G-code — load, place on the printer's bed,
 // saliency, plan, toolpaths (and support), G-code — as the CLI's `slice` and the daemon's jobs
-// run it. Phases reported through RunContext: load, saliency, profile, plan (then the planner's
-// own name), toolpaths, gcode.
+// run it. Phases reported through RunContext, in order: orient (with up "auto"), load, saliency
+// (or lee05), profile, plan (then the planner's own name) or segment (SegOpt, with its planners'
+// names inside), toolpaths, gcode. The daemon maps them onto job phases (server/jobs/job_progress).
 #pragma once
 
 #include <optional>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include "core/common/progress.hpp"
+#include "core/export/plan_document.hpp"
 #include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 #include "core/printer/printer_profile.hpp"
@@ -41,6 +43,7 @@ struct SliceResult {
   std::string plot_svg, model_3mf, saliency_ply;
   std::optional<OrientationReport> orientation;  // with --up auto: the candidates and the choice
   std::optional<SegOptResult> segmentation;      // with plan.segment: the regions and the decision
+  PlanDocument plan;  // the plan as `salient plan -o` writes it (with plan.segment, as --segment -o)
 };
 
 // Throws InputError naming the option or file at fault, Cancelled when run.cancel fires.

@@ -6,6 +6,8 @@
 #include <set>
 
 #include "core/geometry/polygon_ops.hpp"
+#include "core/segment/seg_opt.hpp"
+#include "core/slicing/exact_solver.hpp"
 
 namespace salient::core {
 namespace {
@@ -22,6 +24,26 @@ bool tiles(std::vector<std::vector<int>> paths) {
     share += std::ldexp(1.0, -static_cast<int>(paths[i].size()));
   }
   return std::fabs(share - 1) < 1e-12;
+}
+
+// The exact planner restricted to the allowed cells: fewest layers within the budget.
+std::optional<LayerPlan> exact_on_allowed(const Objective& objective, std::vector<char> allowed,
+                                          double epsilon, const RunContext& run) {
+  ExactSolver solver(objective, run);
+  solver.restrict_boundaries(std::move(allowed));
+  const ZProfile& p = objective.profile();
+  const double budget = objective.sm_fine() + epsilon;
+  const double slack = 1e-12 * std::max(1.0, std::fabs(budget));
+  for (int n = p.fewest_layers(); n <= p.most_layers(); ++n)
+    if (solver.best_sm(n) <= budget + slack) return solver.plan(n);
+  return std::nullopt;
+}
+
+bool meets(const ZProfile& p, const PlanRegion& region, const std::vector<const PlanRegion*>& meet) {
+  if (meet.empty()) return true;
+  const std::vector<char> allowed = seam_allowed(p, region.first_cell, region.last_cell, meet);
+  return std::all_of(region.plan.boundaries.begin(), region.plan.boundaries.end(),
+                     [&](int b) { return allowed[b - region.first_cell] != 0; });
 }
 
 }  // namespace
@@ -103,6 +125,49 @@ std::string check_regions(const ZProfile& whole, const std::vector<PlanRegion>& 
       }
     }
   return {};
+}
+
+std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region,
+                                      std::optional<double> epsilon, const SegOptInput& in,
+                                      const std::vector<const PlanRegion*>& candidates, const RunContext& run,
+                                      const std::vector<const PlanRegion*>& align) {
+  const int first = region.first_cell, last = region.last_cell;
+  std::vector<const PlanRegion*> meet;  // those it touches
+  for (const PlanRegion* n : candidates)
+    if (touching(region, *n)) meet.push_back(n);
+  const ZProfile slab = profile.window(first, last);
+  const Objective objective(slab, in.metric);
+  region.epsilon = epsilon ? *epsilon : objective.epsilon(in.rho);
+  const PlanRequest request{objective, nullptr, nullptr, PlanTarget::within(region.epsilon), in.seed, run};
+  LayerPlan local = in.planner.plan(request).plan;
+  const auto to_whole = [&](const LayerPlan& plan) {
+    region.plan.boundaries.clear();
+    for (int b : plan.boundaries) region.plan.boundaries.push_back(b + first);
+  };
+  to_whole(local);
+  if (!align.empty()) {
+    // Only on `align`'s boundaries (where they keep the rule with its own neighbours): a part
+    // whose finer partner must meet both it and those leaves the partner one set to avoid.
+    std::vector<char> on = seam_allowed(profile, first, last, meet);
+    std::vector<char> theirs(on.size(), 0);
+    for (const PlanRegion* n : align)
+      for (int b : n->plan.boundaries)
+        if (b >= first && b <= last) theirs[b - first] = 1;
+    for (std::size_t k = 1; k + 1 < on.size(); ++k) on[k] = on[k] && theirs[k];
+    if (const auto aligned = exact_on_allowed(objective, on, region.epsilon, run)) {
+      local = *aligned;
+      to_whole(local);
+    }
+  }
+  if (!meets(profile, region, meet)) {
+    const auto constrained =
+        exact_on_allowed(objective, seam_allowed(profile, first, last, meet), region.epsilon, run);
+    if (!constrained) return std::nullopt;
+    local = *constrained;
+    to_whole(local);
+  }
+  region.error = objective.error(local);
+  return region;
 }
 
 }  // namespace salient::core

@@ -2,14 +2,18 @@
 // either its whole section or one part of it cut by vertical planes, with its own layers (paper §5).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/common/progress.hpp"
 #include "core/geometry/polygon.hpp"
 #include "core/slicing/layer_plan.hpp"
 #include "core/slicing/z_profile.hpp"
 
 namespace salient::core {
+
+struct SegOptInput;  // core/segment/seg_opt.hpp: the planner, metric, ρ and seed plan_region uses
 
 struct PlanRegion {
   int first_cell = 0, last_cell = 0;  // the slab [first, last) on the whole model's grid
@@ -37,5 +41,15 @@ std::string check_regions(const ZProfile& whole, const std::vector<PlanRegion>& 
 // boundary keeps that rule against every region in `neighbours`.
 std::vector<char> seam_allowed(const ZProfile& whole, int first_cell, int last_cell,
                                const std::vector<const PlanRegion*>& neighbours);
+
+// Plans the region `shape` (its slab, side and clip; its plan is made here) on `profile` with the
+// input's planner to `epsilon` (by default ρ·E(coarse) of the slab); its boundaries also keep the
+// seam rule against every region of `meet` it touches (the exact planner on the allowed cells when
+// the planner's own plan breaks it). With `align`, it keeps to those regions' boundaries where that
+// reaches ε. Empty if no plan on the allowed cells reaches ε.
+std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion shape,
+                                      std::optional<double> epsilon, const SegOptInput& input,
+                                      const std::vector<const PlanRegion*>& meet, const RunContext& run,
+                                      const std::vector<const PlanRegion*>& align = {});
 
 }  // namespace salient::core

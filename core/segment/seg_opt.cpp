@@ -54,26 +54,6 @@ void add_critical(const ZProfile& p, const LayerPlan& plan, double jump, std::ve
   }
 }
 
-// The exact planner restricted to the allowed cells: fewest layers within the budget.
-std::optional<LayerPlan> exact_on_allowed(const Objective& objective, std::vector<char> allowed,
-                                          double epsilon, const RunContext& run) {
-  ExactSolver solver(objective, run);
-  solver.restrict_boundaries(std::move(allowed));
-  const ZProfile& p = objective.profile();
-  const double budget = objective.sm_fine() + epsilon;
-  const double slack = 1e-12 * std::max(1.0, std::fabs(budget));
-  for (int n = p.fewest_layers(); n <= p.most_layers(); ++n)
-    if (solver.best_sm(n) <= budget + slack) return solver.plan(n);
-  return std::nullopt;
-}
-
-bool meets(const ZProfile& p, const PlanRegion& region, const std::vector<const PlanRegion*>& meet) {
-  if (meet.empty()) return true;
-  const std::vector<char> allowed = seam_allowed(p, region.first_cell, region.last_cell, meet);
-  return std::all_of(region.plan.boundaries.begin(), region.plan.boundaries.end(),
-                     [&](int b) { return allowed[b - region.first_cell] != 0; });
-}
-
 // A region of this level: `side` of this level's cut (-1: the part itself, uncut in that slab).
 PlanRegion shape_of(const SegOptInput& in, int first, int last, int side, Polygon clip) {
   PlanRegion r;
@@ -96,6 +76,203 @@ std::vector<const PlanRegion*> with(std::vector<const PlanRegion*> list, const P
   return list;
 }
 
+// The whole section of [first, last) at this level, planned to ρ and meeting the neighbours.
+std::optional<PlanRegion> uncut(const SegOptInput& in, int first, int last, const RunContext& run) {
+  return plan_region(in.profile, shape_of(in, first, last, -1, {}), std::nullopt, in, in.neighbours, run);
+}
+
+// One plane tried: the model cut by it, both parts profiled on the whole grid and each planned
+// over the full height with its share of the budget (Algorithm 1, lines 1–2), and T1 + T2.
+struct Trial {
+  std::array<MeshPart, 2> parts;
+  Polygon clip[2];
+  std::vector<ZProfile> profile;
+  std::vector<PlanRegion> halves;
+  double seconds = 0;
+  SeamCandidate seam;
+};
+
+// Of the candidate planes, the one whose parts print fastest.
+Trial choose_plane(const SegOptInput& in, const std::vector<SeamCandidate>& planes, const PlanRegion& single,
+                   const RegionTimer& seconds, const RunContext& run) {
+  const ZProfile& whole = in.profile;
+  const int first_cell = single.first_cell, last_cell = single.last_cell;
+  const BoundingBox box = bounding_box(in.mesh);
+  const Polygon area = in.part && !in.part->clip.empty()
+                           ? in.part->clip
+                           : rectangle({box.min.x - 5, box.min.y - 5}, {box.max.x + 5, box.max.y + 5});
+  std::optional<Trial> chosen;
+  for (const SeamCandidate& candidate : planes) {
+    Trial t{split_mesh(in.mesh, in.saliency, candidate.plane), {}, {}, {}, 0, candidate};
+    for (int s = 0; s < 2; ++s) {
+      t.clip[s] = half_plane(candidate.plane, s, area);
+      t.profile.push_back(
+          ZProfile::build(t.parts[s].mesh, t.parts[s].values, whole.params(), run, whole.height()));
+    }
+    const auto budget =
+        split_budget(t.profile[0].window(first_cell, last_cell), t.profile[1].window(first_cell, last_cell),
+                     in.metric, single.epsilon, t.parts[0].area, t.parts[1].area, run);
+    for (int s = 0; s < 2; ++s)
+      t.halves.push_back(*plan_region(t.profile[s], shape_of(in, first_cell, last_cell, s, t.clip[s]),
+                                      budget[s], in, {}, run));
+    t.seconds = seconds(t.halves);  // T1 + T2, printed together as they will be
+    if (!chosen || t.seconds < chosen->seconds) chosen = std::move(t);
+  }
+  return std::move(*chosen);
+}
+
+// Line 3: the horizontal segmentation at the parts' critical heights; a slab is merged where the
+// parts' relative losses are alike.
+std::vector<Slab> slabs_of(const SegOptInput& in, const Trial& t, int first_cell, int last_cell,
+                           const SegOptOptions& o, const RunContext& run) {
+  std::vector<int> critical;
+  for (int s = 0; s < 2; ++s) add_critical(t.profile[s], t.halves[s].plan, o.critical_jump, critical);
+  std::sort(critical.begin(), critical.end());
+  std::vector<int> cuts{first_cell};
+  for (int c : critical)
+    if (c > cuts.back() && printable(in.profile, c - cuts.back()) && printable(in.profile, last_cell - c))
+      cuts.push_back(c);
+  cuts.push_back(last_cell);
+  std::vector<Slab> slabs;
+  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
+    run.check();
+    Slab slab{cuts[i], cuts[i + 1], false};
+    for (int s = 0; s < 2; ++s)
+      slab.loss[s] =
+          relative_loss(t.profile[s], in.metric, t.halves[s].plan, slab.first_cell, slab.last_cell);
+    slab.merged = std::fabs(slab.loss[0] - slab.loss[1]) < o.similar_loss;
+    slabs.push_back(slab);
+  }
+  return slabs;
+}
+
+// Both parts of a run of cut slabs [first, last), sharing its budget; `loss` the parts' losses
+// there. One part is planned first, the other then meets its layers (and gets what the first left
+// of the slab's budget). Which order costs less depends on the parts: a thin part inside a thick
+// one's layers keeps most of its choices, unless it must keep exactly α layers; so both are
+// tried, and the one with fewer layers (weighted by the parts' areas) is kept. Empty if neither fits.
+std::optional<std::array<PlanRegion, 2>> plan_pair(const SegOptInput& in, const Trial& t, int first, int last,
+                                                   const double (&loss)[2], const RunContext& run) {
+  const double eps = Objective(in.profile.window(first, last), in.metric).epsilon(in.rho);
+  const auto share = split_budget(t.profile[0].window(first, last), t.profile[1].window(first, last),
+                                  in.metric, eps, t.parts[0].area, t.parts[1].area, run);
+  std::optional<std::array<PlanRegion, 2>> pair;
+  double best = INFINITY;
+  for (int a : {loss[0] >= loss[1] ? 0 : 1, loss[0] >= loss[1] ? 1 : 0}) {
+    const int b = 1 - a;
+    const PlanRegion shape_b = shape_of(in, first, last, b, t.clip[b]);
+    std::vector<const PlanRegion*> beside_b;  // what the second part must meet besides the first
+    for (const PlanRegion* n : in.neighbours)
+      if (touching(shape_b, *n)) beside_b.push_back(n);
+    // If what is left is not enough for the second part, the first gives up more of its share.
+    for (double give : {1.0, 0.5, 0.25}) {
+      auto pa = plan_region(t.profile[a], shape_of(in, first, last, a, t.clip[a]), give * share[a], in,
+                            in.neighbours, run, beside_b);
+      if (!pa) continue;
+      auto pb = plan_region(t.profile[b], shape_b, eps - pa->error, in, with(in.neighbours, &*pa), run);
+      if (!pb) continue;
+      const double cost = t.parts[a].area * pa->layers() + t.parts[b].area * pb->layers();
+      if (cost < best) {
+        best = cost;
+        pair.emplace();
+        (*pair)[a] = std::move(*pa), (*pair)[b] = std::move(*pb);
+      }
+      break;
+    }
+  }
+  return pair;
+}
+
+struct SlabRegions {
+  std::vector<PlanRegion> regions;
+  bool any_cut = false;
+  bool failed = false;  // a run of slabs could be planned neither cut nor whole
+};
+
+// Runs of alike slabs become one region (or one pair): the fewest seams. A cut run whose parts
+// cannot meet is merged (and its slabs marked so).
+SlabRegions plan_slabs(const SegOptInput& in, const Trial& t, std::vector<Slab>& slabs,
+                       const RunContext& run) {
+  SlabRegions out;
+  for (std::size_t i = 0; i < slabs.size();) {
+    std::size_t j = i;
+    double loss[2] = {0, 0};
+    while (j < slabs.size() && slabs[j].merged == slabs[i].merged) {
+      for (int s = 0; s < 2; ++s) loss[s] += slabs[j].loss[s] * (slabs[j].last_cell - slabs[j].first_cell);
+      ++j;
+    }
+    const int first = slabs[i].first_cell, last = slabs[j - 1].last_cell;
+    std::optional<std::array<PlanRegion, 2>> pair;
+    if (!slabs[i].merged) pair = plan_pair(in, t, first, last, loss, run);
+    std::optional<PlanRegion> merged;
+    if (!pair) merged = uncut(in, first, last, run);
+    if (pair) {
+      out.regions.push_back(std::move((*pair)[0]));
+      out.regions.push_back(std::move((*pair)[1]));
+      out.any_cut = true;
+    } else if (merged) {
+      if (!slabs[i].merged)
+        for (std::size_t k = i; k < j; ++k) slabs[k].merged = true;  // the parts could not meet
+      out.regions.push_back(std::move(*merged));
+    } else {
+      out.failed = true;
+      return out;
+    }
+    i = j;
+  }
+  return out;
+}
+
+// Neighbouring uncut regions (after a failed pair) join into one.
+std::vector<PlanRegion> join_uncut(const SegOptInput& in, std::vector<PlanRegion> regions,
+                                   const RunContext& run) {
+  std::vector<PlanRegion> joined;
+  for (PlanRegion& r : regions) {
+    const bool uncut_here = r.sub.size() == (in.part ? in.part->sub.size() : 0) && (in.part || r.side < 0);
+    const bool after_uncut = !joined.empty() && joined.back().sub.size() == r.sub.size() &&
+                             joined.back().side == r.side && joined.back().clip == r.clip;
+    if (uncut_here && after_uncut) {
+      if (auto j = uncut(in, joined.back().first_cell, r.last_cell, run)) {
+        joined.back() = std::move(*j);
+        continue;
+      }
+    }
+    joined.push_back(std::move(r));
+  }
+  return joined;
+}
+
+// Algorithm 1, recursively: each cut part of `joined` cut again where that saves time. Returns
+// how many regions that added.
+int recurse(const SegOptInput& in, const Trial& t, std::vector<PlanRegion>& joined,
+            const RegionTimer& seconds, const SegOptOptions& o, const RunContext& run) {
+  int deeper = 0;
+  SegOptOptions next = o;
+  next.depth = o.depth - 1;
+  for (std::size_t k = 0; k < joined.size(); ++k) {
+    const PlanRegion r = joined[k];
+    if (r.sub.size() != (in.part ? in.part->sub.size() + 1 : 0) || r.side < 0) continue;  // an uncut slab
+    const int s = in.part ? r.sub.back() : r.side;
+    const MeshPart slab =
+        crop_z(t.parts[s].mesh, t.parts[s].values, in.profile.z(r.first_cell), in.profile.z(r.last_cell));
+    // The part's budget becomes its own ρ, so its slabs share ε as the whole model's do.
+    const double e_coarse = Objective(t.profile[s].window(r.first_cell, r.last_cell), in.metric).e_coarse();
+    const double rho = e_coarse > 0 ? r.epsilon / e_coarse : in.rho;
+    SegOptInput sub{slab.mesh, slab.values, t.profile[s], in.metric,    in.planner,
+                    rho,       in.seed,     &r,           in.neighbours};
+    for (std::size_t q = 0; q < joined.size(); ++q)
+      if (q != k) sub.neighbours.push_back(&joined[q]);
+    const SegOptResult inner = seg_opt(sub, seconds, next, run);
+    if (!inner.cut) continue;
+    joined.erase(joined.begin() + static_cast<std::ptrdiff_t>(k));
+    joined.insert(joined.begin() + static_cast<std::ptrdiff_t>(k), inner.regions.begin(),
+                  inner.regions.end());
+    k += inner.regions.size() - 1;
+    deeper += static_cast<int>(inner.regions.size()) - 1;
+  }
+  return deeper;
+}
+
 }  // namespace
 
 std::array<double, 2> split_budget(const ZProfile& part0, const ZProfile& part1, Metric metric,
@@ -113,60 +290,13 @@ std::array<double, 2> split_budget(const ZProfile& part0, const ZProfile& part1,
   return {best_e0, std::max(0.0, epsilon - best_e0)};
 }
 
-std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region,
-                                      std::optional<double> epsilon, const SegOptInput& in,
-                                      const std::vector<const PlanRegion*>& candidates, const RunContext& run,
-                                      const std::vector<const PlanRegion*>& align) {
-  const int first = region.first_cell, last = region.last_cell;
-  std::vector<const PlanRegion*> meet;  // those it touches
-  for (const PlanRegion* n : candidates)
-    if (touching(region, *n)) meet.push_back(n);
-  const ZProfile slab = profile.window(first, last);
-  const Objective objective(slab, in.metric);
-  region.epsilon = epsilon ? *epsilon : objective.epsilon(in.rho);
-  const PlanRequest request{objective, nullptr, nullptr, PlanTarget::within(region.epsilon), in.seed, run};
-  LayerPlan local = in.planner.plan(request).plan;
-  const auto to_whole = [&](const LayerPlan& plan) {
-    region.plan.boundaries.clear();
-    for (int b : plan.boundaries) region.plan.boundaries.push_back(b + first);
-  };
-  to_whole(local);
-  if (!align.empty()) {
-    // Only on `align`'s boundaries (where they keep the rule with its own neighbours): a part
-    // whose finer partner must meet both it and those leaves the partner one set to avoid.
-    std::vector<char> on = seam_allowed(profile, first, last, meet);
-    std::vector<char> theirs(on.size(), 0);
-    for (const PlanRegion* n : align)
-      for (int b : n->plan.boundaries)
-        if (b >= first && b <= last) theirs[b - first] = 1;
-    for (std::size_t k = 1; k + 1 < on.size(); ++k) on[k] = on[k] && theirs[k];
-    if (const auto aligned = exact_on_allowed(objective, on, region.epsilon, run)) {
-      local = *aligned;
-      to_whole(local);
-    }
-  }
-  if (!meets(profile, region, meet)) {
-    const auto constrained =
-        exact_on_allowed(objective, seam_allowed(profile, first, last, meet), region.epsilon, run);
-    if (!constrained) return std::nullopt;
-    local = *constrained;
-    to_whole(local);
-  }
-  region.error = objective.error(local);
-  return region;
-}
-
 SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const SegOptOptions& o,
                      const RunContext& run) {
-  const ZProfile& whole = in.profile;  // the part's own profile when in.part is set
   const int first_cell = in.part ? in.part->first_cell : 0,
-            last_cell = in.part ? in.part->last_cell : whole.cells();
+            last_cell = in.part ? in.part->last_cell : in.profile.cells();  // the part's own profile
   SegOptResult out;
   run.report("segment", 0);
-  const std::optional<PlanRegion> single =
-      in.part ? *in.part
-              : plan_region(whole, shape_of(in, first_cell, last_cell, -1, {}), std::nullopt, in,
-                            in.neighbours, run);
+  const std::optional<PlanRegion> single = in.part ? *in.part : uncut(in, first_cell, last_cell, run);
   if (!single) throw std::logic_error("seg_opt: a whole model always has a plan");
   out.regions = {*single};
   out.whole_seconds = out.seconds = seconds(out.regions);
@@ -178,45 +308,11 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
                std::to_string(static_cast<int>(100 * o.seam.min_share)) + " % of its surface each";
     return out;
   }
-  // Algorithm 1, line 1–2: both parts, each planned over the whole height (for each plane timed).
-  const BoundingBox box = bounding_box(in.mesh);
-  const Polygon area = in.part && !in.part->clip.empty()
-                           ? in.part->clip
-                           : rectangle({box.min.x - 5, box.min.y - 5}, {box.max.x + 5, box.max.y + 5});
-  struct Trial {
-    std::array<MeshPart, 2> parts;
-    Polygon clip[2];
-    std::vector<ZProfile> profile;
-    std::vector<PlanRegion> halves;
-    double seconds = 0;
-  };
-  std::optional<Trial> chosen;
-  for (const SeamCandidate& candidate : planes) {
-    Trial t{split_mesh(in.mesh, in.saliency, candidate.plane), {}, {}, {}, 0};
-    for (int s = 0; s < 2; ++s) {
-      t.clip[s] = half_plane(candidate.plane, s, area);
-      t.profile.push_back(
-          ZProfile::build(t.parts[s].mesh, t.parts[s].values, whole.params(), run, whole.height()));
-    }
-    const auto budget =
-        split_budget(t.profile[0].window(first_cell, last_cell), t.profile[1].window(first_cell, last_cell),
-                     in.metric, single->epsilon, t.parts[0].area, t.parts[1].area, run);
-    for (int s = 0; s < 2; ++s)
-      t.halves.push_back(*plan_region(t.profile[s], shape_of(in, first_cell, last_cell, s, t.clip[s]),
-                                      budget[s], in, {}, run));
-    t.seconds = seconds(t.halves);  // T1 + T2, printed together as they will be
-    if (!chosen || t.seconds < chosen->seconds) {
-      chosen = std::move(t);
-      out.seam = candidate;
-    }
-  }
+  const Trial chosen = choose_plane(in, planes, *single, seconds, run);
+  out.seam = chosen.seam;
   run.report("segment", 0.4);
-  const auto& parts = chosen->parts;
-  const auto& clip = chosen->clip;
-  const std::vector<ZProfile>& profile = chosen->profile;
-  const std::vector<PlanRegion>& halves = chosen->halves;
-  out.parts_seconds = chosen->seconds;
-  out.parts = halves;
+  out.parts_seconds = chosen.seconds;
+  out.parts = chosen.halves;
   const double ratio = out.parts_seconds / out.whole_seconds;
   if (!(ratio < o.tau)) {
     out.note = "not cut: the best plane's parts take " +
@@ -227,129 +323,19 @@ SegOptResult seg_opt(const SegOptInput& in, const RegionTimer& seconds, const Se
   }
   run.report("segment", 0.6);
 
-  // Line 3: horizontal segmentation at the critical heights, merging where the parts are alike.
-  std::vector<int> critical;
-  for (int s = 0; s < 2; ++s) add_critical(profile[s], halves[s].plan, o.critical_jump, critical);
-  std::sort(critical.begin(), critical.end());
-  std::vector<int> cuts{first_cell};
-  for (int c : critical)
-    if (c > cuts.back() && printable(whole, c - cuts.back()) && printable(whole, last_cell - c))
-      cuts.push_back(c);
-  cuts.push_back(last_cell);
-  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
-    run.check();
-    Slab slab{cuts[i], cuts[i + 1], false};
-    for (int s = 0; s < 2; ++s)
-      slab.loss[s] = relative_loss(profile[s], in.metric, halves[s].plan, slab.first_cell, slab.last_cell);
-    slab.merged = std::fabs(slab.loss[0] - slab.loss[1]) < o.similar_loss;
-    out.slabs.push_back(slab);
+  out.slabs = slabs_of(in, chosen, first_cell, last_cell, o, run);
+  SlabRegions planned = plan_slabs(in, chosen, out.slabs, run);
+  if (planned.failed) {
+    out.note = "not cut: a slab of the part cannot meet its neighbours' layers within its budget";
+    return out;
   }
-  // Runs of alike slabs become one region (or one pair): the fewest seams.
-  std::vector<PlanRegion> regions;
-  bool any_cut = false;
-  const auto uncut = [&](int first, int last) {
-    return plan_region(whole, shape_of(in, first, last, -1, {}), std::nullopt, in, in.neighbours, run);
-  };
-  for (std::size_t i = 0; i < out.slabs.size();) {
-    std::size_t j = i;
-    double loss[2] = {0, 0};
-    while (j < out.slabs.size() && out.slabs[j].merged == out.slabs[i].merged) {
-      for (int s = 0; s < 2; ++s)
-        loss[s] += out.slabs[j].loss[s] * (out.slabs[j].last_cell - out.slabs[j].first_cell);
-      ++j;
-    }
-    const int first = out.slabs[i].first_cell, last = out.slabs[j - 1].last_cell;
-    std::optional<PlanRegion> pair[2];
-    if (!out.slabs[i].merged) {
-      const double eps = Objective(whole.window(first, last), in.metric).epsilon(in.rho);
-      const auto share = split_budget(profile[0].window(first, last), profile[1].window(first, last),
-                                      in.metric, eps, parts[0].area, parts[1].area, run);
-      // One part is planned first, the other then meets its layers (and gets what the first left
-      // of the slab's budget). Which order costs less depends on the parts: a thin part inside a
-      // thick one's layers keeps most of its choices, unless it must keep exactly α layers; so
-      // both are tried, and the one with fewer layers (weighted by the parts' areas) is kept.
-      double best = INFINITY;
-      for (int a : {loss[0] >= loss[1] ? 0 : 1, loss[0] >= loss[1] ? 1 : 0}) {
-        const int b = 1 - a;
-        const PlanRegion shape_b = shape_of(in, first, last, b, clip[b]);
-        std::vector<const PlanRegion*> beside_b;  // what the second part must meet besides the first
-        for (const PlanRegion* n : in.neighbours)
-          if (touching(shape_b, *n)) beside_b.push_back(n);
-        // If what is left is not enough for the second part, the first gives up more of its share.
-        for (double give : {1.0, 0.5, 0.25}) {
-          auto pa = plan_region(profile[a], shape_of(in, first, last, a, clip[a]), give * share[a], in,
-                                in.neighbours, run, beside_b);
-          if (!pa) continue;
-          auto pb = plan_region(profile[b], shape_b, eps - pa->error, in, with(in.neighbours, &*pa), run);
-          if (!pb) continue;
-          const double cost = parts[a].area * pa->layers() + parts[b].area * pb->layers();
-          if (cost < best) best = cost, pair[a] = std::move(pa), pair[b] = std::move(pb);
-          break;
-        }
-      }
-    }
-    std::optional<PlanRegion> merged;
-    if (!(pair[0] && pair[1])) merged = uncut(first, last);
-    if (pair[0] && pair[1]) {
-      regions.push_back(std::move(*pair[0]));
-      regions.push_back(std::move(*pair[1]));
-      any_cut = true;
-    } else if (merged) {
-      if (!out.slabs[i].merged)
-        for (std::size_t k = i; k < j; ++k) out.slabs[k].merged = true;  // the parts could not meet
-      regions.push_back(std::move(*merged));
-    } else {
-      out.note = "not cut: a slab of the part cannot meet its neighbours' layers within its budget";
-      return out;
-    }
-    i = j;
-  }
-  // Neighbouring uncut regions (after a failed pair) join into one.
-  std::vector<PlanRegion> joined;
-  for (PlanRegion& r : regions) {
-    const bool uncut_here = r.sub.size() == (in.part ? in.part->sub.size() : 0) && (in.part || r.side < 0);
-    const bool after_uncut = !joined.empty() && joined.back().sub.size() == r.sub.size() &&
-                             joined.back().side == r.side && joined.back().clip == r.clip;
-    if (uncut_here && after_uncut) {
-      if (auto j = uncut(joined.back().first_cell, r.last_cell)) {
-        joined.back() = std::move(*j);
-        continue;
-      }
-    }
-    joined.push_back(std::move(r));
-  }
+  std::vector<PlanRegion> joined = join_uncut(in, std::move(planned.regions), run);
   run.report("segment", 0.8);
-  if (!any_cut) {
+  if (!planned.any_cut) {
     out.note = "not cut: the parts are sliced alike at every height, so every vertical seam was merged away";
     return out;
   }
-  // Algorithm 1, recursively: each part cut again where that saves time.
-  int deeper = 0;
-  if (o.depth > 1) {
-    SegOptOptions next = o;
-    next.depth = o.depth - 1;
-    for (std::size_t k = 0; k < joined.size(); ++k) {
-      const PlanRegion r = joined[k];
-      if (r.sub.size() != (in.part ? in.part->sub.size() + 1 : 0) || r.side < 0) continue;  // an uncut slab
-      const int s = in.part ? r.sub.back() : r.side;
-      const MeshPart slab =
-          crop_z(parts[s].mesh, parts[s].values, whole.z(r.first_cell), whole.z(r.last_cell));
-      // The part's budget becomes its own ρ, so its slabs share ε as the whole model's do.
-      const double e_coarse = Objective(profile[s].window(r.first_cell, r.last_cell), in.metric).e_coarse();
-      const double rho = e_coarse > 0 ? r.epsilon / e_coarse : in.rho;
-      SegOptInput sub{slab.mesh, slab.values, profile[s], in.metric,    in.planner,
-                      rho,       in.seed,     &r,         in.neighbours};
-      for (std::size_t q = 0; q < joined.size(); ++q)
-        if (q != k) sub.neighbours.push_back(&joined[q]);
-      const SegOptResult inner = seg_opt(sub, seconds, next, run);
-      if (!inner.cut) continue;
-      joined.erase(joined.begin() + static_cast<std::ptrdiff_t>(k));
-      joined.insert(joined.begin() + static_cast<std::ptrdiff_t>(k), inner.regions.begin(),
-                    inner.regions.end());
-      k += inner.regions.size() - 1;
-      deeper += static_cast<int>(inner.regions.size()) - 1;
-    }
-  }
+  const int deeper = o.depth > 1 ? recurse(in, chosen, joined, seconds, o, run) : 0;
   const double t = seconds(joined);
   if (!(t < out.whole_seconds)) {
     out.note = "not cut: once merged at its critical heights the cut no longer saves time";

@@ -74,16 +74,6 @@ struct SegOptResult {
 SegOptResult seg_opt(const SegOptInput& input, const RegionTimer& seconds, const SegOptOptions& options = {},
                      const RunContext& run = {});
 
-// Plans the region `shape` (its slab, side and clip; its plan is made here) on `profile` with the
-// input's planner to `epsilon` (by default ρ·E(coarse) of the slab); its boundaries also keep the
-// seam rule against every region of `meet` it touches (the exact planner on the allowed cells when
-// the planner's own plan breaks it). With `align`, it keeps to those regions' boundaries where that
-// reaches ε. Empty if no plan on the allowed cells reaches ε.
-std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion shape,
-                                      std::optional<double> epsilon, const SegOptInput& input,
-                                      const std::vector<const PlanRegion*>& meet, const RunContext& run,
-                                      const std::vector<const PlanRegion*>& align = {});
-
 // The two parts of a slab share its budget ε: the split with the least Σ w_s·n_s such that
 // Σ E_s(n_s) ≤ ε, n_s the layers of part s's best plan (exact) and w_s its weight (surface area,
 // for the time a layer of it takes). A part with little saliency takes the budget to go coarse

@@ -30,7 +30,7 @@ std::string string_field(const json& body, const char* key, const std::string& f
 json job_json(const Job& j) {
   json out = {{"id", j.id},
               {"state", to_string(j.state)},
-              {"phase", j.phase},
+              {"phase", to_string(j.phase)},
               {"progress", j.progress},
               {"filename", j.filename},
               {"settings", json::parse(j.settings, nullptr, false)},

@@ -78,7 +78,7 @@ std::function<void(const Job&)> job_event_publisher(EventHub& hub) {
   };
   auto seen = std::make_shared<Seen>();
   return [&hub, seen](const Job& j) {
-    const std::string key = std::string(to_string(j.state)) + "/" + j.phase;
+    const std::string key = std::string(to_string(j.state)) + "/" + std::string(to_string(j.phase));
     bool progress;
     {
       std::lock_guard lock(seen->mutex);

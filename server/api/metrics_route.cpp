@@ -13,10 +13,8 @@ void add_metrics_route(Router& router, const Metrics& metrics, Store& store, Pri
         std::string out = metrics.render();
         JobStore jobs(store.db());
         out += "# HELP salient_jobs Jobs in the database, by state.\n# TYPE salient_jobs gauge\n";
-        for (JobState s :
-             {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
-          out += "salient_jobs{state=\"" + std::string(to_string(s)) + "\"} " +
-                 std::to_string(jobs.count(s)) + "\n";
+        for (const auto& [s, name] : job_state_names)  // every state, even with no job in it
+          out += "salient_jobs{state=\"" + std::string(name) + "\"} " + std::to_string(jobs.count(s)) + "\n";
         out +=
             "# HELP salient_job_queue_length Jobs waiting for a worker.\n# TYPE salient_job_queue_length "
             "gauge\n";

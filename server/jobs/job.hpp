@@ -1,26 +1,19 @@
-// Job: one model to slice, and what became of it. States: queued → running → done | failed |
-// cancelled; phases of a running job: load, saliency, plan, toolpaths.
+// Job: one model to slice, and what became of it. Its states and phases (all of them listed
+// there) are in server/jobs/job_state.hpp.
 #pragma once
 
 #include <optional>
 #include <string>
-#include <string_view>
+
+#include "server/jobs/job_state.hpp"
 
 namespace salient::server {
-
-enum class JobState { queued, running, done, failed, cancelled };
-
-std::string_view to_string(JobState s);
-std::optional<JobState> job_state_from(std::string_view s);
-inline bool finished(JobState s) {
-  return s == JobState::done || s == JobState::failed || s == JobState::cancelled;
-}
 
 struct Job {
   std::string id;
   JobState state = JobState::queued;
-  std::string phase;    // empty until it runs
-  double progress = 0;  // 0..1 within the whole job
+  JobPhase phase = JobPhase::none;  // none until it runs
+  double progress = 0;              // 0..1 within the whole job
   std::string filename, model_digest;
   std::string settings, settings_digest;  // settings as canonical JSON text
   std::optional<std::string> error;       // why it failed

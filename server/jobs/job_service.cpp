@@ -7,12 +7,14 @@
 #include <nlohmann/json.hpp>
 
 #include "core/common/input_error.hpp"
+#include "core/export/plan_json.hpp"
 #include "core/mesh/mesh_loader.hpp"
 #include "core/mesh/mesh_reader.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "server/http/json_text.hpp"
 #include "server/http/router.hpp"
+#include "server/jobs/job_progress.hpp"
 #include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"
 #include "server/store/sha256.hpp"
@@ -26,37 +28,10 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-// Where each phase the core reports lies in the whole job, and the job phase it belongs to.
-struct Span {
-  const char* phase;
-  double from, to;
-};
-Span span_of(std::string_view reported) {
-  if (reported == "load") return {"load", 0.0, 0.05};
-  if (reported == "saliency" || reported == "lee05") return {"saliency", 0.05, 0.35};
-  if (reported == "profile") return {"plan", 0.35, 0.4};
-  if (reported == "toolpaths") return {"toolpaths", 0.6, 0.95};
-  if (reported == "gcode") return {"toolpaths", 0.95, 1.0};
-  return {"plan", 0.4, 0.6};  // "plan" and the planners' own names
-}
-
-// What "segment" decided (null without it): cut or not and why, the times, the regions.
+// What "segment" decided (null without it), as `salient plan --segment` reports it.
 nlohmann::json segmentation_json(const core::SliceResult& r) {
-  if (!r.segmentation) return nullptr;
-  const core::SegOptResult& g = *r.segmentation;
-  nlohmann::json regions = nlohmann::json::array();
-  for (const core::PlanRegion& region : g.regions)
-    regions.push_back({{"side", region.side},
-                       {"sub", region.sub},
-                       {"layers", region.layers()},
-                       {"E", region.error},
-                       {"epsilon", region.epsilon}});
-  return {{"cut", g.cut},
-          {"note", g.note},
-          {"whole_seconds", g.whole_seconds},
-          {"parts_seconds", g.parts_seconds},
-          {"seconds", g.seconds},
-          {"regions", regions}};
+  if (!r.plan.segmentation) return nullptr;
+  return nlohmann::json::parse(core::segmentation_json(*r.plan.segmentation));
 }
 
 // What "up": "auto" chose (null otherwise): the direction, and each candidate's scores.
@@ -211,30 +186,13 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
   changed(job.id);
   const fs::path work = store_.data_dir() / "work" / job.id;
   std::mutex progress_mutex;
-  std::string last_phase;
-  double last_progress = -1;
-  auto last_write = std::chrono::steady_clock::now();
-  bool oriented = false;    // with "up": "auto", "orient" takes the first 30 % and the rest follows
-  bool segmenting = false;  // with "segment", its own progress stands for the planners' inside it
+  JobProgress progress;
   core::RunContext run{token.get(), [&](std::string_view reported, double fraction) {
                          std::lock_guard lock(progress_mutex);  // reported from the solvers' threads too
-                         if (reported == "segment")
-                           segmenting = true;
-                         else if (segmenting && reported != "toolpaths" && reported != "gcode")
-                           return;
-                         Span s = span_of(reported);
-                         if (reported == "orient")
-                           s = {"orient", 0.0, 0.3}, oriented = true;
-                         else if (oriented)
-                           s.from = 0.3 + 0.7 * s.from, s.to = 0.3 + 0.7 * s.to;
-                         const double overall = s.from + (s.to - s.from) * std::clamp(fraction, 0.0, 1.0);
-                         const auto t = std::chrono::steady_clock::now();
-                         if (last_phase == s.phase && (overall - last_progress < 0.02 ||
-                                                       t - last_write < std::chrono::milliseconds(100)))
-                           return;
-                         last_phase = s.phase, last_progress = overall, last_write = t;
+                         const auto update = progress.report(reported, fraction);
+                         if (!update) return;
                          try {
-                           JobStore(store_.db()).set_progress(job.id, s.phase, overall);
+                           JobStore(store_.db()).set_progress(job.id, update->phase, update->overall);
                          } catch (const StoreError&) {
                            return;  // a full disk: progress is not worth failing the job for
                          }
@@ -253,10 +211,7 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     settings.slice.artefacts = true;
     const core::SliceResult r = core::slice_model(settings.slice, printer, run);
     const std::string gcode = store_.files().put(r.gcode);
-    const nlohmann::json plan = {{"model", r.model_name}, {"z", r.z},
-                                 {"layers", r.layers},    {"finest_layers", r.finest_layers},
-                                 {"error", r.error},      {"rsmd", r.rsmd}};
-    const std::string plan_digest = store_.files().put(json_text(plan, 2));
+    const std::string plan_digest = store_.files().put(core::plan_json(r.plan));  // as `salient plan -o`
     result = json_text(
         nlohmann::json{{"layers", r.layers},
                        {"finest_layers", r.finest_layers},

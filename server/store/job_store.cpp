@@ -14,7 +14,7 @@ Job read_job(const Database::Statement& q) {
   Job j;
   j.id = q.text(0);
   j.state = job_state_from(q.text(1)).value_or(JobState::failed);
-  j.phase = q.text(2);
+  j.phase = job_phase_from(q.text(2)).value_or(JobPhase::none);
   j.progress = q.real(3);
   j.filename = q.text(4);
   j.model_digest = q.text(5);
@@ -39,29 +39,6 @@ std::string new_id() {
 }
 
 }  // namespace
-
-std::string_view to_string(JobState s) {
-  switch (s) {
-    case JobState::queued:
-      return "queued";
-    case JobState::running:
-      return "running";
-    case JobState::done:
-      return "done";
-    case JobState::failed:
-      return "failed";
-    case JobState::cancelled:
-      return "cancelled";
-  }
-  return "failed";
-}
-
-std::optional<JobState> job_state_from(std::string_view s) {
-  for (JobState v :
-       {JobState::queued, JobState::running, JobState::done, JobState::failed, JobState::cancelled})
-    if (to_string(v) == s) return v;
-  return std::nullopt;
-}
 
 Job JobStore::create(const std::string& filename, const std::string& model_digest,
                      const std::string& settings, const std::string& settings_digest, double now) {
@@ -139,9 +116,9 @@ std::optional<Job> JobStore::start_next(double now) {
   return j;
 }
 
-void JobStore::set_progress(const std::string& id, const std::string& phase, double progress) {
+void JobStore::set_progress(const std::string& id, JobPhase phase, double progress) {
   db_.prepare("UPDATE jobs SET phase = ?, progress = ? WHERE id = ? AND state = 'running'")
-      .bind(1, std::string_view(phase))
+      .bind(1, to_string(phase))
       .bind(2, progress)
       .bind(3, std::string_view(id))
       .run();

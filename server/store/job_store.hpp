@@ -23,7 +23,7 @@ class JobStore {
   long long count(std::optional<JobState> state);
   // The oldest queued job, now running (attempts + 1); none when the queue is empty.
   std::optional<Job> start_next(double now);
-  void set_progress(const std::string& id, const std::string& phase, double progress);
+  void set_progress(const std::string& id, JobPhase phase, double progress);
   // running/queued → done | failed | cancelled; false if it had already finished.
   bool finish(const std::string& id, JobState state, const std::optional<std::string>& error,
               const std::optional<std::string>& result, double now);

@@ -8,9 +8,10 @@ salient=$1 model=$2 up=$3 height=$4 work=$5
 base="$work/peer3mf_$(basename "$model")"
 "$salient" plan "$model" --up "$up" --height "$height" --saliency lee05 -o "$base.json" >/dev/null
 "$salient" export-3mf "$model" "$base.json" --up "$up" --height "$height" -o "$base.3mf" >/dev/null
-# Our layer tops and first layer height, from the plan JSON (one "z_top": value per layer).
-grep -o '"z_top": [0-9.e+-]*' "$base.json" | awk '{print $2}' >"$base.ours"
-first=$(grep -o '"height": [0-9.e+-]*' "$base.json" | sed -n 2p | awk '{print $2}')  # [1] is the model's
+# Our layer tops and first layer height, from the plan (docs/plan-format.md).
+python3 -c 'import json, sys; print("\n".join(repr(l["z_top"]) for l in json.load(open(sys.argv[1]))["layers"]))' \
+  "$base.json" >"$base.ours"
+first=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["layers"][0]["height"])' "$base.json")
 prusa-slicer --export-gcode "$base.3mf" --first-layer-height "$first" --min-layer-height 0.1 --max-layer-height 0.4 \
   --output "$base.gcode" >/dev/null 2>&1
 sed -n 's/^;Z://p' "$base.gcode" >"$base.theirs"

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <thread>
 
+#include "core/export/plan_json.hpp"
 #include "server/http/router.hpp"
 #include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"
@@ -55,7 +56,7 @@ TEST_CASE("a submitted model is sliced by a worker: phases in order, G-code and 
   std::vector<std::string> seen;  // "state/phase" as they changed
   JobService service(store, {}, [&](const Job& j) {
     std::lock_guard lock(m);
-    const std::string s = std::string(to_string(j.state)) + "/" + j.phase;
+    const std::string s = std::string(to_string(j.state)) + "/" + std::string(to_string(j.phase));
     if (seen.empty() || seen.back() != s) seen.push_back(s);
   });
   service.start();
@@ -235,4 +236,23 @@ TEST_CASE("a job cancelled the moment it starts running is never sliced to the e
   for (const auto& e : std::filesystem::recursive_directory_iterator(dir.path / "files" / "objects"))
     files += e.is_regular_file() ? 1 : 0;
   CHECK(files == 1);
+}
+
+TEST_CASE("a job's plan is a salient-plan the plan reader reads; its result has the plan's SegOpt report") {
+  const salient::test::ScratchDir dir("jobs-plan");
+  Store store(dir.path);
+  JobService service(store, {});
+  service.start();
+  const auto submitted =
+      service.submit("spot.obj", model_bytes("spot.obj"), R"({"up": "y", "height": 20, "segment": true})");
+  const Job done = wait_finished(store, submitted.job.id);
+  REQUIRE(done.state == JobState::done);
+  const nlohmann::json result = nlohmann::json::parse(*done.result);
+  const std::string text = store.files().read(result.at("plan").get<std::string>());
+  const salient::core::PlanDocument plan = salient::core::read_plan_json(text, "plan.json");
+  CHECK(plan.count() == result.at("layers").get<int>());
+  CHECK(plan.boundaries().back() == doctest::Approx(20).epsilon(1e-6));
+  CHECK(plan.model == "spot.obj");
+  CHECK(result.at("segmentation").is_object());
+  CHECK(result.at("segmentation") == nlohmann::json::parse(text).at("segmentation"));
 }

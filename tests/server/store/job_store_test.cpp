@@ -22,8 +22,8 @@ TEST_CASE("jobs: created queued, started oldest first, finished once, listed new
   REQUIRE(started);
   CHECK(started->id == a.id);
   CHECK(started->attempts == 1);
-  jobs.set_progress(a.id, "saliency", 0.25);
-  CHECK(jobs.get(a.id)->phase == "saliency");
+  jobs.set_progress(a.id, JobPhase::saliency, 0.25);
+  CHECK(jobs.get(a.id)->phase == JobPhase::saliency);
   CHECK(jobs.finish(a.id, JobState::done, std::nullopt, std::string(R"({"layers": 539})"), 13));
   CHECK_FALSE(
       jobs.finish(a.id, JobState::failed, std::string("late"), std::nullopt, 14));  // already finished
@@ -51,7 +51,7 @@ TEST_CASE("jobs: a restart puts running jobs back in the queue, with their attem
     JobStore jobs(db);
     id = jobs.create("bunny.obj", "m", "{}", "s", 1).id;
     jobs.start_next(2);
-    jobs.set_progress(id, "plan", 0.6);
+    jobs.set_progress(id, JobPhase::plan, 0.6);
   }  // the daemon dies here
   Database db(scratch.path / "salient.db");
   JobStore jobs(db);
