@@ -14,7 +14,8 @@ struct JobSettings {
   std::string canonical;  // the settings as canonical JSON (sorted keys, defaults filled in)
 };
 
-// Throws ApiError 400 ("bad_settings") naming the key; `json` may be empty (all defaults).
+// Throws BadRequest ("bad_settings") naming the key (core messages spell settings 'key'); `json` may be empty
+// (all defaults).
 JobSettings parse_job_settings(const std::string& json, std::size_t max_depth = 32);
 
 }  // namespace salient::server
