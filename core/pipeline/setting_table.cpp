@@ -461,7 +461,7 @@ std::vector<std::pair<const Setting*, SettingValue>> canonical_values(const Sett
 
 std::string settings_markdown() {
   std::string out =
-      "| job key | CLI option | type | range | default | what it sets |\n"
+      "| job key | CLI option | type | range | default | meaning |\n"
       "|---|---|---|---|---|---|\n";
   static const char* const types[] = {"number", "integer", "true/false", "text", "choice"};
   for (const Setting& s : setting_table()) {
@@ -472,10 +472,12 @@ std::string settings_markdown() {
     if (s.choices) range = names_text(s.choices());
     std::string def = s.from_printer ? "the printer's" : default_text(s);
     if (def.empty()) def = "unset";
-    std::string key = s.not_a_job_setting.empty() ? "`" + std::string(s.key) + "`"
-                                                  : "— (CLI only: " + std::string(s.not_a_job_setting) + ")";
+    const bool job = s.not_a_job_setting.empty();
+    const std::string key = job ? "`" + std::string(s.key) + "`" : "— (CLI only)";
+    std::string what(s.help);
+    if (!job) what += "; not a job setting: " + std::string(s.not_a_job_setting);
     out += "| " + key + " | `" + std::string(s.flag) + "` | " + types[static_cast<int>(s.type)] + " | " +
-           range + " | " + def + " | " + std::string(s.help) + " |\n";
+           range + " | " + def + " | " + what + " |\n";
   }
   return out;
 }
