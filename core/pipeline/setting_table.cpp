@@ -43,9 +43,9 @@ std::string names_text(const std::vector<std::string_view>& names) {
   return out;
 }
 
-std::vector<Setting> make_table() {
+// The printer and the planner (first: what a job is sliced for and with).
+void add_printer_and_planner(std::vector<Setting>& t) {
   using I = SettingId;
-  std::vector<Setting> t;
   t.push_back({.id = I::printer,
                .key = "printer",
                .flag = "--printer",
@@ -71,6 +71,11 @@ std::vector<Setting> make_table() {
              s.slice.plan.planner = *kind;
            },
        .choices = planner_names});
+}
+
+// How the model stands and how big it is.
+void add_placement_rows(std::vector<Setting>& t) {
+  using I = SettingId;
   t.push_back(
       {.id = I::up,
        .key = "up",
@@ -110,6 +115,11 @@ std::vector<Setting> make_table() {
                .member = "slice.plan.mesh.scale",
                .get = [](const Settings& s) -> Value { return s.slice.plan.mesh.scale; },
                .set = [](Settings& s, const SettingValue& v) { s.slice.plan.mesh.scale = number(v); }});
+}
+
+// The layers: limits, grid and the target (ρ, or a count).
+void add_layer_rows(std::vector<Setting>& t) {
+  using I = SettingId;
   t.push_back({.id = I::min_layer,
                .key = "min_layer",
                .flag = "--min-layer",
@@ -197,6 +207,11 @@ std::vector<Setting> make_table() {
                .excludes = {I::rho, I::layers},
                .get = [](const Settings& s) -> Value { return optional_value(s.slice.plan.layer_height); },
                .set = [](Settings& s, const SettingValue& v) { s.slice.plan.layer_height = number(v); }});
+}
+
+// How quality is measured.
+void add_quality_rows(std::vector<Setting>& t) {
+  using I = SettingId;
   t.push_back({.id = I::metric,
                .key = "metric",
                .flag = "--metric",
@@ -258,6 +273,11 @@ std::vector<Setting> make_table() {
        .member = "slice.plan.seed",
        .get = [](const Settings& s) -> Value { return std::int64_t(s.slice.plan.seed); },
        .set = [](Settings& s, const SettingValue& v) { s.slice.plan.seed = std::uint64_t(integer(v)); }});
+}
+
+// SegOpt (paper §5).
+void add_segment_rows(std::vector<Setting>& t) {
+  using I = SettingId;
   t.push_back(
       {.id = I::segment,
        .key = "segment",
@@ -300,6 +320,11 @@ std::vector<Setting> make_table() {
        .get = [](const Settings& s) -> Value { return std::int64_t(s.slice.plan.segment_planes); },
        .set = [](Settings& s,
                  const SettingValue& v) { s.slice.plan.segment_planes = static_cast<int>(integer(v)); }});
+}
+
+// Toolpaths and support (slice only).
+void add_toolpath_rows(std::vector<Setting>& t) {
+  using I = SettingId;
   t.push_back({.id = I::walls,
                .key = "walls",
                .flag = "--walls",
@@ -400,6 +425,16 @@ std::vector<Setting> make_table() {
        .cli_checks = true,
        .get = [](const Settings& s) -> Value { return s.slice.support_settings.angle; },
        .set = [](Settings& s, const SettingValue& v) { s.slice.support_settings.angle = number(v); }});
+}
+
+std::vector<Setting> make_table() {
+  std::vector<Setting> t;
+  add_printer_and_planner(t);
+  add_placement_rows(t);
+  add_layer_rows(t);
+  add_quality_rows(t);
+  add_segment_rows(t);
+  add_toolpath_rows(t);
   return t;
 }
 
