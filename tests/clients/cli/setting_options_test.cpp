@@ -186,7 +186,7 @@ TEST_CASE("the README lists the table") {
   CHECK(readme.substr(first, end - first) == core::settings_markdown());
 }
 
-TEST_CASE("core names settings by id; the CLI spells them as flags, a job as quoted keys") {
+TEST_CASE("core names settings by id: the CLI spells them as flags and a job as quoted keys") {
   const core::InputError e(core::SettingId::grid, "0.03 mm does not divide {min_layer} 0.1 {nothing}");
   CHECK(std::string(e.what()) == "grid: 0.03 mm does not divide min_layer 0.1 {nothing}");
   CHECK(e.spelled(cli::cli_flag) == "--grid: 0.03 mm does not divide --min-layer 0.1 {nothing}");
