@@ -30,41 +30,11 @@ void add_mesh_options(CLI::App& command, core::MeshOptions& options, bool allow_
   command.add_option("--scale", options.scale, "Scale the model by this factor")->capture_default_str();
 }
 
-void add_plan_options(CLI::App& cmd, core::PlanOptions& o, bool& json) {
-  add_mesh_options(cmd, o.mesh, true);
-  cmd.add_option("--min-layer", o.min_layer, "Thinnest printable layer α (mm)")->capture_default_str();
-  cmd.add_option("--max-layer", o.max_layer, "Thickest printable layer ᾱ (mm)")->capture_default_str();
-  cmd.add_option("--grid", o.grid, "Grid δ that layer boundaries snap to (mm)")->capture_default_str();
-  auto* rho = cmd.add_option("--rho", o.rho, "Allowed loss ε = ρ·E(coarse), 0..1 (default 0.05)");
-  auto* layers = cmd.add_option("--layers", o.layers, "Plan exactly this many layers");
-  auto* height =
-      cmd.add_option("--layer-height", o.layer_height, "Uniform thickness (mm), for --planner uniform");
-  rho->excludes(layers)->excludes(height);
-  layers->excludes(height);
-  cmd.add_option("--metric", o.metric, "Quality metric: area (ours) or paper (eq. 1)")
-      ->check(CLI::IsMember({"area", "paper"}))
-      ->capture_default_str();
-  cmd.add_option("--saliency", o.saliency,
-                 "Saliency: spectral (the paper's), lee05, painted (vertex quality/colour) or uniform")
-      ->check(CLI::IsMember({"spectral", "lee05", "painted", "uniform"}))
-      ->capture_default_str();
-  cmd.add_option(
-      "--saliency-file", o.saliency_file,
-      "Per-vertex saliency, one value per line in the model file's vertex order (implies painted)");
-  cmd.add_option("--seed", o.seed, "Seed for the random planner")->capture_default_str();
-  cmd.add_flag(
-      "--segment", o.segment,
-      "SegOpt (paper §5): cut the model by a vertical plane where slicing its parts apart saves time");
-  cmd.add_option("--segment-depth", o.segment_depth,
-                 "With --segment: levels of cutting (2 and more cut each part again)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 4));
-  cmd.add_option(
-         "--segment-planes", o.segment_planes,
-         "With --segment: how many of the best planes (by seam cost) to plan and time; the fastest is kept")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 20));
+SettingOptions add_plan_options(CLI::App& cmd, core::Settings& settings, bool& json, unsigned command) {
+  cmd.add_option("MODEL", settings.slice.plan.mesh.model, "Model file (STL, OBJ, PLY or OFF)")->required();
+  SettingOptions options(cmd, command);
   cmd.add_flag("--json", json, "Print JSON instead of text");
+  return options;
 }
 
 }  // namespace salient::cli

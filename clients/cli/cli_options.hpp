@@ -1,6 +1,7 @@
 // The options several commands share, bound to the core's option structs.
 #pragma once
 
+#include "clients/cli/setting_options.hpp"
 #include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 
@@ -12,8 +13,9 @@ namespace salient::cli {
 
 // MODEL, --up, --height and --scale. `allow_auto`: --up auto (commands that slice).
 void add_mesh_options(CLI::App& command, core::MeshOptions& options, bool allow_auto = false);
-// The mesh options, the planning options and --json.
-void add_plan_options(CLI::App& command, core::PlanOptions& options, bool& json);
+// MODEL (into settings.slice.plan.mesh.model), the settings table's options for `command`
+// (core::for_plan, for_compare or for_slice) and --json. Apply the result to `settings` in the action.
+SettingOptions add_plan_options(CLI::App& cmd, core::Settings& settings, bool& json, unsigned command);
 
 // --up auto for commands that do not slice: chooses as `slice` would, scoring time on the
 // generic-i3 profile (plan options from `plan` when given), prints the candidates unless

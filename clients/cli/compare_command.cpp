@@ -40,14 +40,18 @@ void add_segopt_rows(const core::PlanningSetup& setup, core::Comparison& c) {
 
 void add_compare_command(CLI::App& app, CommandAction& action) {
   struct CompareOptions {
-    core::PlanOptions plan;
+    core::Settings settings;  // as given on the command line
+    SettingOptions given;
+    core::PlanOptions plan;  // settings.slice.plan once applied
     bool json = false;
   };
   auto o = std::make_shared<CompareOptions>();
   CLI::App* cmd = app.add_subcommand("compare", "Compare every planner on one model (the paper's Table 1)");
-  add_plan_options(*cmd, o->plan, o->json);
+  o->given = add_plan_options(*cmd, o->settings, o->json, core::for_compare);
   cmd->callback([o, &action] {
     action = [o] {
+      o->given.apply(o->settings);
+      o->plan = o->settings.slice.plan;
       resolve_auto_up(o->plan.mesh, &o->plan, o->json);
       const auto printer = core::builtin_printer("generic-i3");  // the segopt rows are timed on it
       o->plan.mesh.bed_center_x = printer->bed_center_x();
@@ -71,8 +75,8 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
         for (const auto& s : c.adapslice_trace)
           trace.push_back({{"step", s.step}, {"layers", s.layers}, {"E", s.error}});
         const nlohmann::json j = {{"model", name},
-                                  {"metric", o->plan.metric},
-                                  {"saliency", o->plan.saliency},
+                                  {"metric", std::string(core::to_string(o->plan.metric))},
+                                  {"saliency", std::string(core::to_string(o->plan.saliency))},
                                   {"rho", c.rho},
                                   {"epsilon", c.epsilon},
                                   {"reference_layers", c.reference_layers},
@@ -86,8 +90,9 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
       }
       std::printf(
           "%s: %s metric, %s saliency, rho %.3g; exact needs %d layers (fine %d, coarse %d), RSMD %.4f\n",
-          name.c_str(), o->plan.metric.c_str(), o->plan.saliency.c_str(), c.rho, c.reference_layers,
-          c.fine_layers, c.coarse_layers, c.reference_rsmd);
+          name.c_str(), std::string(core::to_string(o->plan.metric)).c_str(),
+          std::string(core::to_string(o->plan.saliency)).c_str(), c.rho, c.reference_layers, c.fine_layers,
+          c.coarse_layers, c.reference_rsmd);
       std::printf("%-16s %14s %16s %9s  %s\n", "planner", "RSMD @ layers", "layers @ RSMD", "seconds",
                   "note");
       for (const auto& r : c.rows) {

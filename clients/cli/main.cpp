@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "clients/cli/commands.hpp"
+#include "clients/cli/setting_options.hpp"
 #include "core/common/input_error.hpp"
 #include "protocol/serial/transport.hpp"
 
@@ -31,8 +32,8 @@ int main(int argc, char** argv) {
   } catch (const salient::protocol::serial::LinkError& e) {
     std::fprintf(stderr, "salient: error: %s\n", e.what());
     return 4;
-  } catch (const salient::core::InputError& e) {
-    std::fprintf(stderr, "salient: error: %s\n", e.what());
+  } catch (const salient::core::InputError& e) {  // settings spelled as flags: "--grid"
+    std::fprintf(stderr, "salient: error: %s\n", e.spelled(salient::cli::cli_flag).c_str());
     return 1;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "salient: internal error: %s\n", e.what());

@@ -19,7 +19,9 @@ namespace salient::cli {
 namespace {
 
 struct PlanCommandOptions {
-  core::PlanOptions plan;
+  core::Settings settings;  // as given on the command line
+  SettingOptions given;
+  core::PlanOptions plan;  // settings.slice.plan once applied
   bool json = false;
   std::string output, svg;
 };
@@ -42,20 +44,24 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const core::ZProfile& p = *setup.profile;
   const std::string name = std::filesystem::path(o.plan.mesh.model).filename().string();
-  const core::PlanDocument plan = core::segmented_plan_document(setup, name, o.plan.planner, r, seconds);
+  const core::PlanDocument plan =
+      core::segmented_plan_document(setup, name, std::string(core::to_string(o.plan.planner)), r, seconds);
   const std::string text = core::plan_json(plan);
   if (!o.output.empty()) write_file(o.output, text);
   const std::vector<double> heights = core::printed_heights(p, r.regions);
   if (!o.svg.empty())
-    write_file(o.svg, core::regions_svg(p, r.regions,
-                                        name + " — " + o.plan.planner + "+segopt, " +
-                                            std::to_string(heights.size()) + " printed layers"));
+    write_file(o.svg,
+               core::regions_svg(p, r.regions,
+                                 name + " — " + std::string(core::to_string(o.plan.planner)) + "+segopt, " +
+                                     std::to_string(heights.size()) + " printed layers"));
   if (o.json) {
     std::fputs(text.c_str(), stdout);
     return 0;
   }
-  std::printf("%s: %s planner with SegOpt, %s metric, %s saliency\n", name.c_str(), o.plan.planner.c_str(),
-              o.plan.metric.c_str(), o.plan.saliency.c_str());
+  std::printf("%s: %s planner with SegOpt, %s metric, %s saliency\n", name.c_str(),
+              std::string(core::to_string(o.plan.planner)).c_str(),
+              std::string(core::to_string(o.plan.metric)).c_str(),
+              std::string(core::to_string(o.plan.saliency)).c_str());
   std::printf("  layers   %zu printed heights (fine %d)\n  time     %.3f s\n", heights.size(),
               p.most_layers(), seconds);
   print_segmentation(r, p);
@@ -67,19 +73,16 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
 void add_plan_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<PlanCommandOptions>();
   CLI::App* cmd = app.add_subcommand("plan", "Choose layer thicknesses for a model");
-  add_plan_options(*cmd, o->plan, o->json);
-  cmd->add_option("--planner", o->plan.planner,
-                  "Planner: exact, adapslice, hms, uniform, cusp, stepwise, ha13, ceo, random, fine, coarse")
-      ->capture_default_str();
+  o->given = add_plan_options(*cmd, o->settings, o->json, core::for_plan);
   cmd->add_option("-o,--output", o->output, "Write the plan as JSON to this file");
   cmd->add_option("--svg", o->svg, "Write a plot of the plan (thickness and saliency against height)");
   cmd->callback([o, &action] {
     action = [o] {
+      o->given.apply(o->settings);
+      o->plan = o->settings.slice.plan;
+      core::check_plan_options(o->plan);
       resolve_auto_up(o->plan.mesh, &o->plan, o->json);
       const auto planner = core::make_planner(o->plan.planner);
-      if (!planner) throw core::InputError("--planner", {}, "unknown planner '" + o->plan.planner + "'");
-      if (o->plan.segment && (o->plan.layers || o->plan.layer_height))
-        throw core::InputError("--segment", {}, "works to a quality target (--rho), not to a layer count");
       if (o->plan.segment) {  // timed on generic-i3: placed on its bed
         o->plan.mesh.bed_center_x = core::builtin_printer("generic-i3")->bed_center_x();
         o->plan.mesh.bed_center_y = core::builtin_printer("generic-i3")->bed_center_y();
@@ -91,20 +94,22 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       const core::PlanResult result = planner->plan(setup->request(target));
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
-      const std::string text =
-          core::plan_json(core::plan_document(*setup, name, o->plan.planner, result, target, seconds));
+      const std::string text = core::plan_json(core::plan_document(
+          *setup, name, std::string(core::to_string(o->plan.planner)), result, target, seconds));
       if (!o->output.empty()) write_file(o->output, text);
       if (!o->svg.empty())
         write_file(o->svg, core::plan_svg(*setup->objective, result.plan,
-                                          name + " — " + o->plan.planner + ", " +
-                                              std::to_string(result.plan.layer_count()) + " layers"));
+                                          name + " — " + std::string(core::to_string(o->plan.planner)) +
+                                              ", " + std::to_string(result.plan.layer_count()) + " layers"));
       if (o->json) {
         std::fputs(text.c_str(), stdout);
         return 0;
       }
       const core::ZProfile& p = *setup->profile;
-      std::printf("%s: %s planner, %s metric, %s saliency\n", name.c_str(), o->plan.planner.c_str(),
-                  o->plan.metric.c_str(), o->plan.saliency.c_str());
+      std::printf("%s: %s planner, %s metric, %s saliency\n", name.c_str(),
+                  std::string(core::to_string(o->plan.planner)).c_str(),
+                  std::string(core::to_string(o->plan.metric)).c_str(),
+                  std::string(core::to_string(o->plan.saliency)).c_str());
       std::printf("  layers   %d (fine %d, coarse %d): %.1f%% fewer than fine\n", result.plan.layer_count(),
                   p.most_layers(), p.fewest_layers(),
                   100.0 * (1 - double(result.plan.layer_count()) / p.most_layers()));

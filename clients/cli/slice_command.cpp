@@ -16,14 +16,10 @@ namespace salient::cli {
 namespace {
 
 struct SliceOptions {
-  core::PlanOptions plan;
+  core::Settings settings;  // as given on the command line
+  SettingOptions given;
   bool json = false;
-  std::string printer = "generic-i3";
   std::string output;
-  core::ToolpathSettings toolpaths;
-  bool combine_infill = true;
-  bool support = false;
-  core::SupportSettings support_settings;
 };
 
 core::ProgressFn progress_line() {
@@ -49,44 +45,13 @@ void write_atomically(const std::string& path, const std::string& text) {
 void add_slice_command(CLI::App& app, CommandAction& action) {
   auto o = std::make_shared<SliceOptions>();
   CLI::App* cmd = app.add_subcommand("slice", "Plan the layers of a model and write G-code for a printer");
-  add_plan_options(*cmd, o->plan, o->json);
-  cmd->add_option("--planner", o->plan.planner, "Planner (see `salient plan --help`)")->capture_default_str();
-  cmd->add_option("--printer", o->printer,
-                  "Printer profile: built-in id (ender3, generic-i3, replicator2x) or a .toml file")
-      ->capture_default_str();
+  o->given = add_plan_options(*cmd, o->settings, o->json, core::for_slice);
   cmd->add_option("-o,--output", o->output, "G-code file to write")->required();
-  cmd->add_option("--walls", o->toolpaths.walls, "Number of walls")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 20));
-  cmd->add_option("--infill", o->toolpaths.infill_density, "Sparse infill density, 0..1")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
-  cmd->add_option("--line-width", o->toolpaths.line_width, "Extrusion width (mm)")->capture_default_str();
-  cmd->add_option("--top-thickness", o->toolpaths.top_thickness, "Solid skin under top surfaces (mm)")
-      ->capture_default_str();
-  cmd->add_option("--bottom-thickness", o->toolpaths.bottom_thickness, "Solid skin over bottom surfaces (mm)")
-      ->capture_default_str();
-  cmd->add_option("--combine-infill", o->combine_infill,
-                  "Print sparse infill once for thin layers that fit under the printer's thickest layer")
-      ->capture_default_str();
-  cmd->add_flag("--support", o->support, "Add support under overhangs");
-  cmd->add_option("--support-angle", o->support_settings.angle,
-                  "Overhangs steeper than this from vertical get support (°)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 89.0));
-  auto* min_layer = cmd->get_option("--min-layer");
-  auto* max_layer = cmd->get_option("--max-layer");
-  cmd->callback([o, min_layer, max_layer, &action] {
-    action = [o, from_profile_min = min_layer->count() == 0, from_profile_max = max_layer->count() == 0] {
-      const core::PrinterProfile printer = resolve_printer(o->printer);
-      core::SliceSettings settings;
-      settings.plan = o->plan;
-      settings.min_layer_from_printer = from_profile_min;  // the printer's limits unless overridden
-      settings.max_layer_from_printer = from_profile_max;
-      settings.toolpaths = o->toolpaths;
-      settings.combine_infill = o->combine_infill;
-      settings.support = o->support;
-      settings.support_settings = o->support_settings;
+  cmd->callback([o, &action] {
+    action = [o] {
+      o->given.apply(o->settings);
+      const core::PrinterProfile printer = resolve_printer(o->settings.printer);
+      const core::SliceSettings& settings = o->settings.slice;
       const auto t0 = std::chrono::steady_clock::now();
       const core::SliceResult r =
           core::slice_model(settings, printer, core::RunContext{nullptr, progress_line()});
@@ -105,7 +70,7 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
           printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds, o->output.c_str());
       if (r.open_contours > 0)
         std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n",
-                    r.open_contours, o->toolpaths.max_gap);
+                    r.open_contours, settings.toolpaths.max_gap);
       return 0;
     };
   });

@@ -80,13 +80,13 @@ Vec3 turn_to_z(const Vec3& p, const Vec3& d) {
 
 Placement place_mesh(Mesh& mesh, const PlacementOptions& options) {
   if (options.target_height && !(std::isfinite(*options.target_height) && *options.target_height > 0))
-    bad_option("--height must be a positive number of millimetres");
-  if (!(std::isfinite(options.scale) && options.scale > 0)) bad_option("--scale must be a positive number");
-  if (options.target_height && options.scale != 1.0) bad_option("give either --height or --scale, not both");
+    bad_option("{height} must be a positive number of millimetres");
+  if (!(std::isfinite(options.scale) && options.scale > 0)) bad_option("{scale} must be a positive number");
+  if (options.target_height && options.scale != 1.0) bad_option("give either {height} or {scale}, not both");
 
   if (options.up_direction) {
     const Vec3 d = *options.up_direction;
-    if (!(is_finite(d) && norm(d) > 1e-12)) bad_option("--up: the direction must be finite and not zero");
+    if (!(is_finite(d) && norm(d) > 1e-12)) bad_option("{up}: the direction must be finite and not zero");
     const Vec3 unit = d / norm(d);
     for (Vec3& p : mesh.positions) p = turn_to_z(p, unit);
   } else {

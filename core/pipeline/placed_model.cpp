@@ -14,7 +14,7 @@ PlacedModel load_placed(const MeshOptions& options, const std::string& values_fi
                               ? "'auto' is only for slice, plan and jobs (it slices three orientations)"
                               : "expected x, y, z, auto or a direction like 0,-1,0.2, got '";
     if (options.up != "auto") message.append(options.up).append("'");
-    throw InputError("--up", {}, message);
+    throw InputError(SettingId::up, message);
   }
   if (up) out.up = *up;
   if (values_file.empty()) {

@@ -11,21 +11,26 @@ PlanRequest PlanningSetup::request(PlanTarget target) const {
   return PlanRequest{*objective, &model.loaded.mesh, geometric.get(), target, seed, {}};
 }
 
-std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& run) {
+void check_plan_options(const PlanOptions& o) {
+  if (o.segment && (o.layers || o.layer_height))
+    throw InputError(SettingId::segment, "works to a quality target ({rho}), not to a layer count");
+  if (o.segment && o.planner == PlannerKind::ha13)
+    throw InputError(SettingId::planner,
+                     "ha13 cuts the whole model's sections, so it cannot plan the parts of {segment}");
   if (o.rho) validate_rho(*o.rho);
-  if (o.layers && *o.layers <= 0) throw InputError("--layers", {}, "must be a positive number of layers");
-  if (o.layer_height && !(*o.layer_height > 0)) throw InputError("--layer-height", {}, "must be positive");
-  if (o.layer_height && o.planner != "uniform")
-    throw InputError("--layer-height", {}, "applies to --planner uniform; use --layers for " + o.planner);
-  SlicingParams params{o.min_layer, o.max_layer, o.grid};
-  validate(params);  // before loading: a bad option should not wait for a big model
-  const auto metric = parse_metric(o.metric);
-  if (!metric) throw InputError("--metric", {}, "expected area or paper, got '" + o.metric + "'");
-  auto method = parse_saliency_method(o.saliency);
-  if (!method)
-    throw InputError("--saliency", {},
-                     "expected spectral, lee05, painted or uniform, got '" + o.saliency + "'");
-  if (!o.saliency_file.empty()) method = SaliencyMethod::painted;
+  if (o.layers && *o.layers <= 0) throw InputError(SettingId::layers, "must be a positive number of layers");
+  if (o.layer_height && !(*o.layer_height > 0)) throw InputError(SettingId::layer_height, "must be positive");
+  if (o.layer_height && o.planner != PlannerKind::uniform)
+    throw InputError(SettingId::layer_height,
+                     "applies to {planner} uniform; use {layers} for " + std::string(to_string(o.planner)));
+  validate(SlicingParams{o.min_layer, o.max_layer, o.grid});
+}
+
+std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& run) {
+  check_plan_options(o);  // before loading: a bad option should not wait for a big model
+  const SlicingParams params{o.min_layer, o.max_layer, o.grid};
+  const Metric metric = o.metric;
+  const SaliencyMethod method = o.saliency_file.empty() ? o.saliency : SaliencyMethod::painted;
 
   auto s = std::make_unique<PlanningSetup>();
   run.report("load", 0);
@@ -33,11 +38,11 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   run.check();
   const std::string name = std::filesystem::path(o.mesh.model).filename().string();
   run.report("saliency", 0);
-  s->saliency = compute_saliency(s->model.loaded.mesh, *method, name, run);
+  s->saliency = compute_saliency(s->model.loaded.mesh, method, name, run);
   run.check();
   s->profile = std::make_unique<ZProfile>(ZProfile::build(s->model.loaded.mesh, s->saliency, params, run));
-  s->objective = std::make_unique<Objective>(*s->profile, *metric, false);
-  s->geometric = std::make_unique<Objective>(*s->profile, *metric, true);
+  s->objective = std::make_unique<Objective>(*s->profile, metric, false);
+  s->geometric = std::make_unique<Objective>(*s->profile, metric, true);
   s->rho = o.rho.value_or(0.05);
   s->seed = o.seed;
   return s;

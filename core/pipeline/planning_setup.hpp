@@ -9,6 +9,7 @@
 
 #include "core/common/progress.hpp"
 #include "core/pipeline/placed_model.hpp"
+#include "core/saliency/saliency.hpp"
 #include "core/slicing/objective.hpp"
 #include "core/slicing/planner.hpp"
 
@@ -20,10 +21,10 @@ struct PlanOptions {
   std::optional<double> rho;
   std::optional<int> layers;
   std::optional<double> layer_height;
-  std::string metric = "area";
-  std::string planner = "exact";
-  std::string saliency = "uniform";
-  std::string saliency_file;
+  Metric metric = Metric::area;
+  PlannerKind planner = PlannerKind::exact;
+  SaliencyMethod saliency = SaliencyMethod::uniform;
+  std::string saliency_file;  // per-vertex values (implies painted)
   std::uint64_t seed = 1;
   bool segment = false;    // SegOpt (paper §5): cut by a vertical plane where that saves time
   int segment_depth = 1;   // levels of cutting (2+: each part is cut again where that saves time)
@@ -42,7 +43,11 @@ struct PlanningSetup {
   PlanRequest request(PlanTarget target) const;
 };
 
-// Throws InputError naming the option or file at fault.
+// The checks that need no model (layer limits, ρ, the target, --segment's conditions), in the
+// order prepare() makes them. Throws InputError naming the setting at fault.
+void check_plan_options(const PlanOptions& options);
+
+// Throws InputError naming the setting or file at fault (check_plan_options first).
 // Reports the phases load, saliency and profile through `run`, and stops when it is cancelled.
 std::unique_ptr<PlanningSetup> prepare(const PlanOptions& options, const RunContext& run = {});
 

@@ -50,9 +50,9 @@ double region_print_seconds(const Mesh& mesh, const ZProfile& whole, const std::
 SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner,
                            const RegionSliceSettings& settings, const PrinterProfile& printer,
                            const RunContext& run, SegOptOptions options) {
-  if (planner.name() == "ha13")
-    throw InputError("--planner", {},
-                     "ha13 cuts the whole model's sections, so it cannot plan the parts of --segment");
+  if (planner.name() == to_string(PlannerKind::ha13))
+    throw InputError(SettingId::planner,
+                     "ha13 cuts the whole model's sections, so it cannot plan the parts of {segment}");
   const Mesh& mesh = setup.model.loaded.mesh;
   const SegOptInput input{mesh,    setup.saliency, *setup.profile, setup.objective->metric(),
                           planner, setup.rho,      setup.seed,     nullptr,

@@ -17,7 +17,16 @@
 
 namespace salient::core {
 
+void check_slice_settings(const SliceSettings& s, const PrinterProfile& printer) {
+  PlanOptions plan = s.plan;
+  if (s.min_layer_from_printer) plan.min_layer = printer.min_layer;
+  if (s.max_layer_from_printer) plan.max_layer = printer.max_layer;
+  if (!(s.toolpaths.line_width > 0)) throw InputError(SettingId::line_width, "must be positive");
+  check_plan_options(plan);
+}
+
 SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
+  check_slice_settings(s, printer);  // before the orientations are sliced
   std::optional<OrientationReport> orientation;
   if (s.plan.mesh.up == "auto") {
     orientation = choose_orientation(s, printer, run);
@@ -27,14 +36,9 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   PlanOptions& plan = s.plan;
   if (s.min_layer_from_printer) plan.min_layer = printer.min_layer;
   if (s.max_layer_from_printer) plan.max_layer = printer.max_layer;
-  if (!(s.toolpaths.line_width > 0)) throw InputError("--line-width", {}, "must be positive");
   plan.mesh.bed_center_x = printer.bed_center_x();
   plan.mesh.bed_center_y = printer.bed_center_y();
   const auto planner = make_planner(plan.planner);
-  if (!planner) throw InputError("--planner", {}, "unknown planner '" + plan.planner + "'");
-
-  if (plan.segment && (plan.layers || plan.layer_height))
-    throw InputError("--segment", {}, "works to a quality target (--rho), not to a layer count");
   const auto setup = prepare(plan, run);
   run.check();
   if (s.combine_infill) s.toolpaths.combine_infill_up_to = printer.max_layer;
@@ -58,15 +62,16 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
     for (const PlanRegion& r : regions) e_coarse += setup->rho > 0 ? r.epsilon / setup->rho : 0;
     out.error = regions_error(regions);
     out.rsmd = e_coarse > 0 ? out.error / e_coarse : 0;
-    out.plan =
-        segmented_plan_document(*setup, out.model_name, plan.planner, *out.segmentation, planning_seconds());
+    out.plan = segmented_plan_document(*setup, out.model_name, std::string(to_string(plan.planner)),
+                                       *out.segmentation, planning_seconds());
   } else {
     run.report("plan", 0);
     const PlanTarget target = target_of(plan, *setup);
     PlanRequest request = setup->request(target);
     request.run = run;
     const PlanResult planned = planner->plan(request);
-    out.plan = plan_document(*setup, out.model_name, plan.planner, planned, target, planning_seconds());
+    out.plan = plan_document(*setup, out.model_name, std::string(to_string(plan.planner)), planned, target,
+                             planning_seconds());
     PlanRegion whole;
     whole.last_cell = p.cells();
     whole.plan = planned.plan;
@@ -84,11 +89,12 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.layers = static_cast<int>(out.z.size());
   out.finest_layers = p.most_layers();
   GcodeSettings gs;
-  gs.summary = {"model = " + out.model_name,
-                "planner = " + plan.planner + ", metric " + plan.metric + ", saliency " + plan.saliency,
-                "plan = " + std::to_string(out.layers) + " layers (finest " +
-                    std::to_string(out.finest_layers) + "), E " + std::to_string(out.error) + ", RSMD " +
-                    std::to_string(out.rsmd)};
+  gs.summary = {
+      "model = " + out.model_name,
+      "planner = " + std::string(to_string(plan.planner)) + ", metric " +
+          std::string(to_string(plan.metric)) + ", saliency " + std::string(to_string(plan.saliency)),
+      "plan = " + std::to_string(out.layers) + " layers (finest " + std::to_string(out.finest_layers) +
+          "), E " + std::to_string(out.error) + ", RSMD " + std::to_string(out.rsmd)};
   if (out.segmentation) gs.summary.push_back("segmentation = " + out.segmentation->note);
   GcodeResult g = write_gcode(toolpaths, printer, gs);
   out.gcode = std::move(g.text);
@@ -97,7 +103,8 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   for (const auto& l : toolpaths) out.open_contours += l.open_chains;
   if (s.artefacts) {
     const Mesh& mesh = setup->model.loaded.mesh;
-    const std::string title = out.model_name + " — " + plan.planner + ", " + plan.metric;
+    const std::string title = out.model_name + " — " + std::string(to_string(plan.planner)) + ", " +
+                              std::string(to_string(plan.metric));
     out.plot_svg = regions.size() == 1 ? plan_svg(*setup->objective, regions[0].plan, title)
                                        : regions_svg(p, regions, title);
     out.model_3mf = three_mf(mesh, boundaries, out.model_name);

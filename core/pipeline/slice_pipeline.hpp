@@ -46,7 +46,12 @@ struct SliceResult {
   PlanDocument plan;  // the plan as `salient plan -o` writes it (with plan.segment, as --segment -o)
 };
 
-// Throws InputError naming the option or file at fault, Cancelled when run.cancel fires.
+// The checks slice_model makes before it loads anything, with the printer's layer limits where
+// `settings` take them from it: for a front end that refuses bad settings at once (a job's 400).
+// Throws InputError naming the setting at fault.
+void check_slice_settings(const SliceSettings& settings, const PrinterProfile& printer);
+
+// Throws InputError naming the setting or file at fault, Cancelled when run.cancel fires.
 // plan.mesh.up = "auto" first chooses the orientation (core/pipeline/auto_orient, phase "orient").
 SliceResult slice_model(SliceSettings settings, const PrinterProfile& printer, const RunContext& run);
 

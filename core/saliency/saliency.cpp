@@ -24,26 +24,20 @@ std::vector<float> normalised(std::vector<float> v) {
 
 }  // namespace
 
+const std::vector<std::string_view>& saliency_method_names() {
+  static const std::vector<std::string_view> names = {"spectral", "lee05", "painted", "uniform"};
+  return names;
+}
+
 std::optional<SaliencyMethod> parse_saliency_method(std::string_view name) {
-  if (name == "spectral") return SaliencyMethod::spectral;
-  if (name == "lee05") return SaliencyMethod::lee05;
-  if (name == "uniform") return SaliencyMethod::uniform;
-  if (name == "painted") return SaliencyMethod::painted;
+  const auto& names = saliency_method_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<SaliencyMethod>(i);
   return std::nullopt;
 }
 
 std::string_view saliency_method_name(SaliencyMethod method) {
-  switch (method) {
-    case SaliencyMethod::spectral:
-      return "spectral";
-    case SaliencyMethod::lee05:
-      return "lee05";
-    case SaliencyMethod::uniform:
-      return "uniform";
-    case SaliencyMethod::painted:
-      return "painted";
-  }
-  return "uniform";
+  return saliency_method_names().at(static_cast<std::size_t>(method));
 }
 
 std::vector<float> compute_saliency(const Mesh& mesh, SaliencyMethod method, const std::string& source,
@@ -64,7 +58,7 @@ std::vector<float> compute_saliency(const Mesh& mesh, SaliencyMethod method, con
         return normalised(std::move(red));
       }
       throw InputError(
-          source, {}, "--saliency painted needs vertex quality or vertex colours, and the model has neither");
+          source, {}, "{saliency} painted needs vertex quality or vertex colours, and the model has neither");
   }
   return {};
 }

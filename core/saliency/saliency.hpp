@@ -15,8 +15,13 @@ namespace salient::core {
 
 enum class SaliencyMethod { spectral, lee05, painted, uniform };
 
+// The name table: "spectral", "lee05", "painted", "uniform" (in this order), and back.
+const std::vector<std::string_view>& saliency_method_names();
 std::optional<SaliencyMethod> parse_saliency_method(std::string_view name);
 std::string_view saliency_method_name(SaliencyMethod method);
+inline std::string_view to_string(SaliencyMethod method) {
+  return saliency_method_name(method);
+}
 
 // One value in [0, 1] per vertex of `mesh`. `painted` takes the vertex quality (else the red
 // channel of the vertex colour), min-max normalised; a mesh with neither is an InputError

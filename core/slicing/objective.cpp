@@ -3,14 +3,20 @@
 
 namespace salient::core {
 
+const std::vector<std::string_view>& metric_names() {
+  static const std::vector<std::string_view> names = {"area", "paper"};  // Metric's order
+  return names;
+}
+
 std::optional<Metric> parse_metric(std::string_view name) {
-  if (name == "area") return Metric::area;
-  if (name == "paper") return Metric::paper;
+  const auto& names = metric_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<Metric>(i);
   return std::nullopt;
 }
 
 std::string_view metric_name(Metric metric) {
-  return metric == Metric::area ? "area" : "paper";
+  return metric_names().at(static_cast<std::size_t>(metric));
 }
 
 Objective::Objective(const ZProfile& profile, Metric metric, bool geometric)

@@ -16,8 +16,13 @@ enum class Metric {
   paper,  // eq. 1: SM(L) = S_L · h · cos θ_L, S_L and cos θ_L maxima over the layer's cells
 };
 
+// The name table: "area", "paper" (in this order), and back.
+const std::vector<std::string_view>& metric_names();
 std::optional<Metric> parse_metric(std::string_view name);
 std::string_view metric_name(Metric metric);
+inline std::string_view to_string(Metric metric) {
+  return metric_name(metric);
+}
 
 struct LayerReport {
   double z_bottom, z_top, height;  // mm

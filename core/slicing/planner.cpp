@@ -11,20 +11,49 @@ const std::vector<std::string_view>& planner_names() {
   return names;
 }
 
-std::unique_ptr<Planner> make_planner(std::string_view name) {
+std::optional<PlannerKind> parse_planner(std::string_view name) {
+  const auto& names = planner_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<PlannerKind>(i);
+  return std::nullopt;
+}
+
+std::string_view to_string(PlannerKind kind) {
+  return planner_names().at(static_cast<std::size_t>(kind));
+}
+
+std::unique_ptr<Planner> make_planner(PlannerKind kind) {
   using namespace planners;
-  if (name == "exact") return make_exact();
-  if (name == "adapslice") return make_adapslice();
-  if (name == "hms") return make_hms();
-  if (name == "uniform") return make_uniform();
-  if (name == "cusp") return make_cusp();
-  if (name == "stepwise") return make_stepwise();
-  if (name == "ha13") return make_ha13();
-  if (name == "ceo") return make_ceo();
-  if (name == "random") return make_random();
-  if (name == "fine") return make_fine();
-  if (name == "coarse") return make_coarse();
+  switch (kind) {
+    case PlannerKind::exact:
+      return make_exact();
+    case PlannerKind::adapslice:
+      return make_adapslice();
+    case PlannerKind::hms:
+      return make_hms();
+    case PlannerKind::uniform:
+      return make_uniform();
+    case PlannerKind::cusp:
+      return make_cusp();
+    case PlannerKind::stepwise:
+      return make_stepwise();
+    case PlannerKind::ha13:
+      return make_ha13();
+    case PlannerKind::ceo:
+      return make_ceo();
+    case PlannerKind::random:
+      return make_random();
+    case PlannerKind::fine:
+      return make_fine();
+    case PlannerKind::coarse:
+      return make_coarse();
+  }
   return nullptr;
+}
+
+std::unique_ptr<Planner> make_planner(std::string_view name) {
+  const auto kind = parse_planner(name);
+  return kind ? make_planner(*kind) : nullptr;
 }
 
 }  // namespace salient::core

@@ -54,8 +54,15 @@ class Planner {
   virtual PlanResult plan(const PlanRequest& request) const = 0;
 };
 
-// Every planner's name, in the order `compare` lists them.
+// Every planner, in the order `compare` lists them (the name table's order).
+enum class PlannerKind { exact, adapslice, hms, uniform, cusp, stepwise, ha13, ceo, random, fine, coarse };
+
+// The name table: each planner's name as the CLI, the daemon and `compare` use it, and back.
 const std::vector<std::string_view>& planner_names();
+std::optional<PlannerKind> parse_planner(std::string_view name);
+std::string_view to_string(PlannerKind kind);
+
+std::unique_ptr<Planner> make_planner(PlannerKind kind);
 // nullptr for an unknown name.
 std::unique_ptr<Planner> make_planner(std::string_view name);
 

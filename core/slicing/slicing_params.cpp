@@ -1,4 +1,4 @@
-// SlicingParams validation: every message names the option to change.
+// SlicingParams validation: every message names the setting to change.
 #include "core/slicing/slicing_params.hpp"
 
 #include <cmath>
@@ -31,25 +31,26 @@ int SlicingParams::max_cells() const {
 
 void validate(const SlicingParams& p) {
   if (!(std::isfinite(p.min_layer) && p.min_layer > 0))
-    throw InputError("--min-layer", {}, "must be a positive number of millimetres, got " + fmt(p.min_layer));
+    throw InputError(SettingId::min_layer,
+                     "must be a positive number of millimetres, got " + fmt(p.min_layer));
   if (!(std::isfinite(p.max_layer) && p.max_layer > 0))
-    throw InputError("--max-layer", {}, "must be a positive number of millimetres, got " + fmt(p.max_layer));
+    throw InputError(SettingId::max_layer,
+                     "must be a positive number of millimetres, got " + fmt(p.max_layer));
   if (p.min_layer > p.max_layer)
-    throw InputError("--min-layer", {},
-                     fmt(p.min_layer) + " mm is greater than --max-layer " + fmt(p.max_layer) + " mm");
+    throw InputError(SettingId::min_layer,
+                     fmt(p.min_layer) + " mm is greater than {max_layer} " + fmt(p.max_layer) + " mm");
   if (!(std::isfinite(p.grid) && p.grid > 0))
-    throw InputError("--grid", {}, "must be a positive number of millimetres, got " + fmt(p.grid));
+    throw InputError(SettingId::grid, "must be a positive number of millimetres, got " + fmt(p.grid));
   if (!divides(p.grid, p.min_layer) || !divides(p.grid, p.max_layer))
-    throw InputError("--grid", {},
-                     fmt(p.grid) + " mm does not divide --min-layer " + fmt(p.min_layer) +
-                         " and --max-layer " + fmt(p.max_layer));
+    throw InputError(SettingId::grid, fmt(p.grid) + " mm does not divide {min_layer} " + fmt(p.min_layer) +
+                                          " and {max_layer} " + fmt(p.max_layer));
   if (p.max_cells() > 4000)
-    throw InputError("--grid", {},
-                     fmt(p.grid) + " mm is too fine: --max-layer would span more than 4000 cells");
+    throw InputError(SettingId::grid,
+                     fmt(p.grid) + " mm is too fine: {max_layer} would span more than 4000 cells");
 }
 
 void validate_rho(double rho) {
-  if (!(rho >= 0 && rho <= 1)) throw InputError("--rho", {}, "must be between 0 and 1, got " + fmt(rho));
+  if (!(rho >= 0 && rho <= 1)) throw InputError(SettingId::rho, "must be between 0 and 1, got " + fmt(rho));
 }
 
 }  // namespace salient::core

@@ -12,11 +12,11 @@ struct SlicingParams {
   int max_cells() const;  // ᾱ / δ
 };
 
-// Throws InputError naming the option ("--min-layer", "--max-layer", "--grid") when the
+// Throws InputError naming the setting (min_layer, max_layer, grid) when the
 // parameters are impossible: non-positive, α > ᾱ, or a grid that does not divide α and ᾱ.
 void validate(const SlicingParams& params);
 
-// Throws InputError naming "--rho" unless 0 <= rho <= 1.
+// Throws InputError naming rho unless 0 <= rho <= 1.
 void validate_rho(double rho);
 
 }  // namespace salient::core

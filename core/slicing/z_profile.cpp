@@ -87,7 +87,7 @@ ZProfile ZProfile::build(const Mesh& mesh, std::span<const float> saliency, cons
   if (!(p.height_ >= params.min_layer))
     throw InputError(
         "model", {},
-        "is " + mm(p.height_) + " mm tall, lower than --min-layer " + mm(params.min_layer) + " mm");
+        "is " + mm(p.height_) + " mm tall, lower than {min_layer} " + mm(params.min_layer) + " mm");
   // A height within a millionth of a cell of the grid counts as on it.
   p.cells_ = static_cast<int>(std::ceil(p.height_ / delta - 1e-6));
   if (p.fewest_layers() > p.most_layers())

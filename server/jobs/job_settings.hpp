@@ -1,5 +1,6 @@
 // Job settings: the JSON a client sends with a model, checked and turned into the core's
-// SliceSettings. Unknown keys and bad values are refused with a message naming the key.
+// SliceSettings. The keys are the settings table's (core/pipeline/setting_table.hpp); unknown
+// keys and bad values are refused with a message naming the key.
 #pragma once
 
 #include <string>
@@ -11,10 +12,13 @@ namespace salient::server {
 struct JobSettings {
   std::string printer = "generic-i3";  // printer profile for slicing
   core::SliceSettings slice;
-  std::string canonical;  // the settings as canonical JSON (sorted keys, defaults filled in)
+  // The settings as canonical JSON: sorted keys, the table's `always` settings with their
+  // defaults, the others only when given or changed (equal canonical settings share one result).
+  std::string canonical;
 };
 
-// Throws ApiError 400 ("bad_settings") naming the key; `json` may be empty (all defaults).
+// Throws BadRequest ("bad_settings") naming the key, as 'grid' (also in core's messages, which
+// are checked here on the built-in printer's layer limits); `json` may be empty (all defaults).
 JobSettings parse_job_settings(const std::string& json, std::size_t max_depth = 32);
 
 }  // namespace salient::server

@@ -42,11 +42,11 @@ TEST_CASE("impossible placements are errors naming the option") {
   Mesh m = box();
   PlacementOptions o;
   o.target_height = -1;
-  CHECK_THROWS_WITH_AS(place_mesh(m, o), "placement: --height must be a positive number of millimetres",
+  CHECK_THROWS_WITH_AS(place_mesh(m, o), "placement: height must be a positive number of millimetres",
                        InputError);
   o.target_height = 10;
   o.scale = 2;
-  CHECK_THROWS_WITH_AS(place_mesh(m, o), "placement: give either --height or --scale, not both", InputError);
+  CHECK_THROWS_WITH_AS(place_mesh(m, o), "placement: give either height or scale, not both", InputError);
   Mesh flat;
   flat.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
   flat.triangles = {{0, 1, 2}};

@@ -27,7 +27,8 @@ void check_all_planners(const Mesh& mesh, const std::vector<float>& saliency, Me
   const PlanResult exact_n = make_planner("exact")->plan(request(PlanTarget::count(n_ref)));
   for (std::string_view name : planner_names()) {
     CAPTURE(name);
-    const auto planner = make_planner(name);
+    const PlannerKind kind = *parse_planner(name);
+    const auto planner = make_planner(kind);
     REQUIRE(planner);
     const PlanResult by_eps = planner->plan(request(PlanTarget::within(eps)));
     const PlanResult by_count = planner->plan(request(PlanTarget::count(n_ref)));
@@ -35,14 +36,14 @@ void check_all_planners(const Mesh& mesh, const std::vector<float>& saliency, Me
       CHECK(check_plan(profile, r->plan) == "");
       CHECK(profile.z(r->plan.boundaries.back()) == doctest::Approx(profile.height()));
     }
-    if (name != "coarse") {  // coarse ignores ε by definition
+    if (kind != PlannerKind::coarse) {  // coarse ignores ε by definition
       CHECK(obj.error(by_eps.plan) <= eps + slack);
       CHECK(by_eps.plan.layer_count() >= n_ref);  // never fewer layers than exact within ε
     }
     if (by_count.plan.layer_count() == n_ref)
       CHECK(obj.error(by_count.plan) >= obj.error(exact_n.plan) - slack);  // never lower E than exact
     // The requested count, or the nearest the planner's parameter reaches, with a note saying so.
-    if (name != "fine" && name != "coarse")
+    if (kind != PlannerKind::fine && kind != PlannerKind::coarse)
       CHECK((by_count.plan.layer_count() == n_ref || !by_count.note.empty()));
     for (std::size_t i = 1; i < by_eps.trace.size(); ++i)
       CHECK(by_eps.trace[i].layers <= by_eps.trace[i - 1].layers);
@@ -98,6 +99,6 @@ TEST_CASE("a flat model cannot be planned, with a clear error") {
   LoadedMesh m = load_mesh(std::filesystem::path(salient::test::model_path("triangle_with_two_solids.stl")));
   place_mesh(m.mesh, {});
   const std::vector<float> s(m.mesh.vertex_count(), 1.0f);
-  CHECK_THROWS_WITH_AS(ZProfile::build(m.mesh, s, {}), "model: is 0 mm tall, lower than --min-layer 0.1 mm",
+  CHECK_THROWS_WITH_AS(ZProfile::build(m.mesh, s, {}), "model: is 0 mm tall, lower than min_layer 0.1 mm",
                        InputError);
 }

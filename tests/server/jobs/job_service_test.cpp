@@ -43,6 +43,8 @@ int status_of(const std::function<void()>& f) {
     f();
   } catch (const ApiError& e) {
     return e.status();
+  } catch (const DomainError& e) {
+    return salient::server::status_of(e.kind());
   }
   return 200;
 }
@@ -129,6 +131,21 @@ TEST_CASE(
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"segment": true, "segment_depth": 9})"); }) ==
         400);
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"rho": 0.1, "layers": 5})"); }) == 400);
+  // Core's refusals name the job's keys, not the CLI's flags.
+  try {
+    parse_job_settings(R"({"grid": 0.03})");
+    FAIL("a grid that does not divide the printer's layer limits is refused");
+  } catch (const BadRequest& e) {
+    CHECK(e.code() == "bad_settings");
+    CHECK(std::string(e.what()).rfind("settings: 'grid': 0.03 mm does not divide 'min_layer'", 0) == 0);
+    CHECK(std::string(e.what()).find("--") == std::string::npos);
+  }
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"grid": 0.03})"); }) == 400);
+  // The settings the CLI always had are job settings too; painted saliency comes with the model.
+  CHECK(parse_job_settings(R"({"saliency": "painted"})").slice.plan.saliency ==
+        salient::core::SaliencyMethod::painted);
+  CHECK(parse_job_settings(R"({"segment": true, "segment_planes": 3})").slice.plan.segment_planes == 3);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"saliency_file": "/etc/passwd"})"); }) == 400);
   CHECK(status_of([&] {
           service.submit("cube.ply", cube,
                          R"([[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[[1]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]]])");
