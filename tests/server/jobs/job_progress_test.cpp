@@ -24,7 +24,7 @@ TEST_CASE("the core's phases map onto the job's, each in its span of the whole j
   CHECK(to_string(at("toolpaths", 0)->phase) == "toolpaths");
 }
 
-TEST_CASE("orient takes the first 30 %; under SegOpt its planners' reports are hidden") {
+TEST_CASE("orient takes the first 30 % and under SegOpt its planners' reports are hidden") {
   JobProgress p;
   auto t = clock_type::now();
   const auto at = [&](std::string_view phase, double f) {
