@@ -64,6 +64,9 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
               std::string(core::to_string(o.plan.saliency)).c_str());
   std::printf("  layers   %zu printed heights (fine %d)\n  time     %.3f s\n", heights.size(),
               p.most_layers(), seconds);
+  if (p.dropped_faces() > 0)
+    std::printf("  warning  %zu faces of zero or non-finite area were left out of the profile\n",
+                p.dropped_faces());
   print_segmentation(r, p);
   return 0;
 }
@@ -116,6 +119,9 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       std::printf("  E        %.6g", setup->objective->error(result.plan));
       if (target.epsilon) std::printf(" (epsilon %.6g = %.3g x E(coarse))", *target.epsilon, setup->rho);
       std::printf("\n  RSMD     %.6g\n  time     %.3f s\n", setup->objective->rsmd(result.plan), seconds);
+      if (p.dropped_faces() > 0)
+        std::printf("  warning  %zu faces of zero or non-finite area were left out of the profile\n",
+                    p.dropped_faces());
       if (!result.note.empty()) std::printf("  note     %s\n", result.note.c_str());
       for (const core::PlanStep& s : result.trace)
         std::printf("  step     %-10s %4d layers  E %.6g\n", s.step.c_str(), s.layers, s.error);

@@ -68,6 +68,9 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
           "-> %s\n",
           r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),
           printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds, o->output.c_str());
+      if (r.dropped_faces > 0)
+        std::printf("warning: %zu faces of zero or non-finite area were left out of the layer profile\n",
+                    r.dropped_faces);
       if (r.open_contours > 0)
         std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n",
                     r.open_contours, settings.toolpaths.max_gap);

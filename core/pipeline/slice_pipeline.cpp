@@ -47,6 +47,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   std::vector<PlanRegion> regions;
   SliceResult out;
   out.orientation = std::move(orientation);
+  out.dropped_faces = p.dropped_faces();
   out.model_name = std::filesystem::path(plan.mesh.model).filename().string();
   const auto t0 = std::chrono::steady_clock::now();
   const auto planning_seconds = [&] {

@@ -37,6 +37,7 @@ struct SliceResult {
   double error = 0, rsmd = 0;
   double print_seconds = 0, filament_mm = 0;
   std::size_t open_contours = 0;  // left out: holes in the mesh wider than toolpaths.max_gap
+  std::size_t dropped_faces = 0;  // left out of the layer profile: zero or non-finite area
   std::string model_name;
   // With SliceSettings::artefacts: the plan's plot (SVG), the placed model with the plan as
   // PrusaSlicer's layer-height profile (3MF), and the saliency as vertex quality and colour (PLY).

@@ -221,6 +221,7 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
                        {"error", r.error},
                        {"rsmd", r.rsmd},
                        {"open_contours", r.open_contours},
+                       {"dropped_faces", r.dropped_faces},
                        {"orientation", orientation_json(r)},
                        {"segmentation", segmentation_json(r)},
                        {"printer", printer.id},

@@ -109,3 +109,17 @@ TEST_CASE("the z-profile is reported and can be cancelled, as the daemon's jobs 
   CHECK_THROWS_AS(salient::core::prepare(o, run), salient::core::Cancelled);
   CHECK(profile_reports == 1);
 }
+
+TEST_CASE("faces of zero or non-finite area are left out of the profile and counted") {
+  Mesh pyr = salient::test::pyramid(10, 5);
+  const ZProfile clean = ZProfile::build(pyr, std::vector<float>(pyr.vertex_count(), 1.0f), {});
+  CHECK(clean.dropped_faces() == 0);
+  const auto a = static_cast<std::uint32_t>(pyr.positions.size());
+  pyr.positions.push_back({1, 1, 1});
+  pyr.positions.push_back({2, 2, 2});
+  pyr.positions.push_back({3, 3, 3});  // collinear: no area
+  pyr.triangles.push_back({a, a + 1, a + 2});
+  const ZProfile p = ZProfile::build(pyr, std::vector<float>(pyr.vertex_count(), 1.0f), {});
+  CHECK(p.dropped_faces() == 1);
+  CHECK(p.channel(false).A_prefix.back() == doctest::Approx(clean.channel(false).A_prefix.back()));
+}
