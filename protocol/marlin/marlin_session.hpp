@@ -10,13 +10,17 @@
 #include <cstddef>
 #include <deque>
 #include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "protocol/gcode/program.hpp"
 #include "protocol/marlin/marlin_reply.hpp"
 
 namespace salient::protocol::marlin {
+
+using protocol::Program;
 
 using Millis = std::chrono::milliseconds;  // time since any fixed epoch, from the driver
 
@@ -72,10 +76,13 @@ class MarlinSession {
  public:
   explicit MarlinSession(SessionConfig config = {});
 
-  // Starts a print of `gcode` (comments stripped, blank lines skipped), numbered after M110 N0.
-  // Resuming: the first `resume_from` commands count as done and are not sent; `prelude`
-  // (temperatures, modes, position: see resume_prelude) goes first.
-  void begin(const std::vector<std::string>& gcode, Millis now, std::size_t resume_from = 0,
+  // Starts a print of `program`, numbered after M110 N0; the commands are read from it as they
+  // go out (it is shared, not copied). Resuming: the first `resume_from` commands count as done
+  // and are not sent; `prelude` (temperatures, modes, position: see resume_prelude) goes first.
+  void begin(std::shared_ptr<const Program> program, Millis now, std::size_t resume_from = 0,
+             const std::vector<std::string>& prelude = {});
+  // The same for a few lines (console commands, tests): one command per line.
+  void begin(const std::vector<std::string>& commands, Millis now, std::size_t resume_from = 0,
              const std::vector<std::string>& prelude = {});
   void pause();
   void resume(Millis now);
@@ -93,7 +100,7 @@ class MarlinSession {
   std::vector<SessionEvent> take_events();
   Millis deadline() const { return std::min({reply_deadline_, resend_ok_deadline_, next_m108_}); }
   SessionState state() const { return state_; }
-  bool idle() const { return queue_.empty() && in_flight_.empty(); }  // nothing left to send or confirm
+  bool idle() const { return nothing_to_send() && in_flight_.empty(); }  // nothing left to send or confirm
   std::size_t commands_done() const { return done_; }
   std::size_t commands_total() const { return total_; }
   bool advanced_ok() const { return advanced_ok_; }
@@ -112,6 +119,8 @@ class MarlinSession {
     bool resent;               // sent again: its reply time says nothing about the link (Karn)
     Millis sent_at;
   };
+  bool nothing_to_send() const { return queue_.empty() && next_command_ >= program_->size(); }
+  void drop_queue();  // nothing more of the program or the host's lines goes
   void handle(const MarlinReply& reply, Millis now);
   void handle_ok(const MarlinReply& reply, Millis now);
   void handle_resend(long long line, Millis now);
@@ -126,7 +135,9 @@ class MarlinSession {
 
   SessionConfig config_;
   SessionState state_ = SessionState::idle;
-  std::deque<std::pair<std::string, bool>> queue_;          // (command, counts) not yet sent
+  std::shared_ptr<const Program> program_ = std::make_shared<const Program>();
+  std::size_t next_command_ = 0;                            // the program's next command to send
+  std::deque<std::pair<std::string, bool>> queue_;          // host lines (command, counts) not yet sent
   std::map<long long, std::pair<std::string, bool>> sent_;  // line → (command, counts), for resends
   std::deque<InFlight> in_flight_;
   long long next_line_ = 0;

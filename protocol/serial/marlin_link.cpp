@@ -98,7 +98,7 @@ void MarlinLink::idle(std::chrono::milliseconds duration,
         " s between prints)");
 }
 
-PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
+PrintResult MarlinLink::print(std::shared_ptr<const Program> program,
                               const std::function<void(const marlin::SessionEvent&)>& on_event,
                               std::size_t resume_from, const std::vector<std::string>& prelude) {
   using marlin::SessionState;
@@ -106,7 +106,7 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
   auto now = [&] { return std::chrono::duration_cast<Millis>(Clock::now() - t0); };
   marlin::MarlinSession session(config_.session);
   request_ = kNone;
-  session.begin(gcode, now(), resume_from, prelude);
+  session.begin(std::move(program), now(), resume_from, prelude);
   PrintResult result;
   auto finish = [&] {
     result.state = session.state();

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "protocol/gcode/program.hpp"
 #include "protocol/marlin/marlin_session.hpp"
 #include "protocol/serial/transport.hpp"
 
@@ -48,7 +49,7 @@ class MarlinLink {
   // Throws LinkError when the printer does not answer.
   FirmwareInfo handshake();
   // `on_event` sees every session event, on this thread.
-  PrintResult print(const std::vector<std::string>& gcode,
+  PrintResult print(std::shared_ptr<const Program> program,
                     const std::function<void(const marlin::SessionEvent&)>& on_event = {},
                     std::size_t resume_from = 0, const std::vector<std::string>& prelude = {});
 

@@ -6,10 +6,13 @@
 
 #include <cstddef>
 #include <deque>
+#include <memory>
 #include <optional>
 #include <string>
 #include <variant>
 #include <vector>
+
+#include "protocol/gcode/program.hpp"
 
 namespace salient::server {
 
@@ -24,7 +27,8 @@ struct DisconnectCommand {};
 struct EmergencyStopCommand {};  // between prints: a print's own e-stop reaches the link at once
 struct PrintCommand {
   PrintRequest request;
-  long long print_id = 0;  // its row, made when it was accepted
+  long long print_id = 0;                            // its row, made when it was accepted
+  std::shared_ptr<const protocol::Program> program;  // the file, read and checked when it was accepted
 };
 struct ConsoleCommand {
   std::vector<std::string> lines;

@@ -142,7 +142,9 @@ long long Printer::start_print(const PrintRequest& request) {
   }
   // Reading and counting a large file happens outside the lock that status requests take.
   Current c;
-  c.total = check_printable(request.filename, store_.files().read(request.file_digest));
+  std::shared_ptr<const protocol::Program> program =
+      printable_program(request.filename, store_.files().read(request.file_digest));
+  c.total = static_cast<long long>(program->size());
   std::lock_guard lock(mutex_);
   refuse_unless_ready();  // another request may have started one meanwhile
   c.record =
@@ -150,7 +152,7 @@ long long Printer::start_print(const PrintRequest& request) {
           .create(config_.id, request.job_id, request.file_digest, request.filename, c.total, now_seconds());
   c.confirmed = static_cast<long long>(request.resume_from);
   c.started = Clock::now();
-  queue_.push(PrintCommand{request, c.record.id});
+  queue_.push(PrintCommand{request, c.record.id, std::move(program)});
   cancel_requested_ = false;
   current_ = c;
   state_ = PrinterState::printing;

@@ -5,7 +5,6 @@
 
 #include "protocol/marlin/resume_prelude.hpp"
 #include "protocol/serial/marlin_link.hpp"
-#include "server/printers/print_file.hpp"
 #include "server/printers/printer.hpp"
 #include "server/printers/printer_connection.hpp"
 
@@ -76,7 +75,8 @@ void Printer::run() {
 
 void Printer::run_console(const std::vector<std::string>& lines, const EventFn& on_event) {
   try {
-    const serial::PrintResult r = link_->print(lines, on_event);
+    const serial::PrintResult r = link_->print(
+        std::make_shared<const protocol::Program>(protocol::Program::from_lines(lines)), on_event);
     {
       std::lock_guard done(mutex_);
       commands_running_ = false;
@@ -215,11 +215,10 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
   serial::PrintResult result;
   PrintState state = PrintState::failed;
   try {
-    const std::vector<std::string> gcode = gcode_lines(store_.files().read(request.file_digest));
     const std::vector<std::string> prelude = request.resume_from > 0
-                                                 ? marlin::resume_prelude(gcode, request.resume_from)
+                                                 ? marlin::resume_prelude(*print.program, request.resume_from)
                                                  : std::vector<std::string>{};
-    result = link_->print(gcode, on_event, request.resume_from, prelude);
+    result = link_->print(print.program, on_event, request.resume_from, prelude);
     bool interrupted = false, cancelled = false;
     {
       std::lock_guard lock(mutex_);

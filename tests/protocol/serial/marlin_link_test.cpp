@@ -158,7 +158,8 @@ Run print_through(const std::vector<std::string>& sim_args, const std::vector<st
   serial::MarlinLink link(serial::open_serial({sim.device(), 250000, true, false}), config);
   link.handshake();
   Run run;
-  run.result = link.print(gcode, {}, resume_from, prelude);
+  run.result =
+      link.print(std::make_shared<const Program>(Program::from_lines(gcode)), {}, resume_from, prelude);
   sim.stop();
   run.log = sim.log();
   run.lines_rejected = sim.stat("lines_rejected");
@@ -260,7 +261,7 @@ TEST_CASE("a disconnect ends the print with the last confirmed command, and resu
   CHECK(cut.result.confirmed + 4 >= first.size());  // at most the lines in flight went unconfirmed
   // Resume on a fresh printer from the last confirmed command.
   const std::size_t from = cut.result.confirmed;
-  const std::vector<std::string> prelude = marlin::resume_prelude(gcode, from);
+  const std::vector<std::string> prelude = marlin::resume_prelude(Program::from_lines(gcode), from);
   const Run rest = print_through({"--advanced-ok"}, gcode, milliseconds(500), from, prelude);
   CHECK(rest.result.state == marlin::SessionState::finished);
   std::vector<std::string> expected = prelude;
@@ -337,7 +338,7 @@ TEST_CASE("the TCP transport (a ser2net-style bridge): the same print, exactly")
   serial::MarlinLink link(serial::open_tcp("127.0.0.1:" + std::to_string(ntohs(a.sin_port))), config);
   CHECK(link.handshake().name.find("salient-sim") != std::string::npos);
   Run run;
-  run.result = link.print(gcode);
+  run.result = link.print(std::make_shared<const Program>(Program::from_lines(gcode)));
   stop = true;
   bridge.join();
   ::close(listener);
