@@ -18,7 +18,6 @@
 #include "core/common/input_error.hpp"
 #include "core/gcode/time_estimator.hpp"
 #include "protocol/gcode/program.hpp"
-#include "protocol/marlin/resume_prelude.hpp"
 #include "protocol/serial/marlin_link.hpp"
 
 namespace salient::cli {
@@ -130,8 +129,6 @@ void add_print_command(CLI::App& app, CommandAction& action) {
 
       Progress progress;
       progress.done = o->resume_from;
-      const std::vector<std::string> prelude =
-          o->resume_from > 0 ? marlin::resume_prelude(commands, o->resume_from) : std::vector<std::string>{};
       serial::PrintResult result;
       std::atomic<bool> over{false};
       struct sigaction sa {
@@ -143,21 +140,18 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       std::thread worker([&] {
         result = link.print(
             program,
-            [&](const marlin::SessionEvent& e) {
+            [&](const protocol::LinkEvent& e) {
               std::lock_guard lock(progress.mutex);
-              using K = marlin::SessionEvent::Kind;
-              if (e.kind == K::acknowledged) progress.done = static_cast<std::size_t>(e.line);
+              using K = protocol::LinkEvent::Kind;
+              if (e.kind == K::progress) progress.done = e.done;
               if (e.kind == K::resend) ++progress.resends;
               if (e.kind == K::error) progress.last_error = e.text;
               if (e.kind == K::temperatures) {
-                if (e.temperatures.hotend)
-                  progress.hotend = e.temperatures.hotend,
-                  progress.hotend_target = e.temperatures.hotend_target;
-                if (e.temperatures.bed)
-                  progress.bed = e.temperatures.bed, progress.bed_target = e.temperatures.bed_target;
+                if (e.hotend) progress.hotend = e.hotend, progress.hotend_target = e.hotend_target;
+                if (e.bed) progress.bed = e.bed, progress.bed_target = e.bed_target;
               }
             },
-            o->resume_from, prelude);
+            o->resume_from);
         over = true;
       });
       int handled = 0;
@@ -203,10 +197,11 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       ::sigaction(SIGTERM, &old_term, nullptr);
       if (tty) std::fprintf(stderr, "\n");
 
-      const char* state = result.disconnected                               ? "disconnected"
-                          : result.state == marlin::SessionState::finished  ? "finished"
-                          : result.state == marlin::SessionState::cancelled ? "cancelled"
-                                                                            : "failed";
+      using protocol::PrintEnd;
+      const char* state = result.disconnected                 ? "disconnected"
+                          : result.end == PrintEnd::finished  ? "finished"
+                          : result.end == PrintEnd::cancelled ? "cancelled"
+                                                              : "failed";
       if (o->json) {
         const nlohmann::json j = {{"file", name},
                                   {"state", state},
@@ -218,7 +213,7 @@ void add_print_command(CLI::App& app, CommandAction& action) {
                                   {"seconds", result.seconds},
                                   {"firmware", fw.name}};
         std::printf("%s\n", j.dump(2).c_str());
-      } else if (result.state == marlin::SessionState::finished) {
+      } else if (result.end == PrintEnd::finished) {
         std::printf("%s: printed %zu commands in %.1f s (%.0f lines/s), %zu lines resent\n", name.c_str(),
                     result.total, result.seconds,
                     double(result.total - o->resume_from) / std::max(result.seconds, 1e-9),
@@ -226,13 +221,13 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       } else {
         std::printf("%s: %s after %zu of %zu commands were confirmed: %s\n", name.c_str(), state,
                     result.confirmed, result.total, result.reason.c_str());
-        if (result.disconnected || result.state == marlin::SessionState::failed)
+        if (result.disconnected || result.end == PrintEnd::failed)
           std::printf("to resume: salient print %s %s %s --resume-from %zu\n", o->file.c_str(),
                       o->tcp.empty() ? "--port" : "--tcp", (o->tcp.empty() ? o->port : o->tcp).c_str(),
                       result.confirmed);
       }
-      if (result.state == marlin::SessionState::finished) return 0;
-      if (result.state == marlin::SessionState::cancelled) return 130;
+      if (result.end == PrintEnd::finished) return 0;
+      if (result.end == PrintEnd::cancelled) return 130;
       return result.disconnected ? 4 : 1;
     };
   });

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "protocol/marlin/marlin_reply.hpp"
+#include "protocol/marlin/resume_prelude.hpp"
 
 namespace salient::protocol::serial {
 namespace {
@@ -29,6 +30,40 @@ std::vector<marlin::MarlinReply> exchange(Transport& t, const std::string& comma
     }
   }
   return {};
+}
+
+// The session's events a host needs, in the link's vocabulary (the rest — firmware, capability,
+// action, timeout, finished, failed — is the link's own business or in the PrintResult).
+std::optional<LinkEvent> to_link_event(const marlin::SessionEvent& e) {
+  using K = marlin::SessionEvent::Kind;
+  LinkEvent out{LinkEvent::Kind::progress};
+  switch (e.kind) {
+    case K::acknowledged:
+      out.done = static_cast<std::size_t>(e.line);
+      return out;
+    case K::temperatures:
+      out.kind = LinkEvent::Kind::temperatures;
+      out.hotend = e.temperatures.hotend, out.hotend_target = e.temperatures.hotend_target;
+      out.bed = e.temperatures.bed, out.bed_target = e.temperatures.bed_target;
+      return out;
+    case K::resend:
+      out.kind = LinkEvent::Kind::resend;
+      return out;
+    case K::error:
+      out.kind = LinkEvent::Kind::error, out.text = e.text;
+      return out;
+    case K::reset:
+      out.kind = LinkEvent::Kind::reset, out.text = e.text;
+      return out;
+    default:
+      return std::nullopt;
+  }
+}
+
+PrintEnd end_of(marlin::SessionState s) {
+  if (s == marlin::SessionState::finished) return PrintEnd::finished;
+  if (s == marlin::SessionState::cancelled) return PrintEnd::cancelled;
+  return PrintEnd::failed;
 }
 
 }  // namespace
@@ -63,9 +98,8 @@ FirmwareInfo MarlinLink::handshake() {
                   " tries: is it a Marlin printer, and is the baud rate right?");
 }
 
-void MarlinLink::idle(std::chrono::milliseconds duration,
-                      const std::function<void(const marlin::SessionEvent&)>& on_event,
-                      std::chrono::milliseconds poll) {
+void MarlinLink::idle(std::chrono::milliseconds duration, const LinkEventFn& on_event) {
+  const std::chrono::milliseconds poll(2000);
   using Kind = marlin::SessionEvent::Kind;
   const auto until = Clock::now() + duration;
   if (!firmware_.autoreport_temperature && Clock::now() - last_poll_ >= poll) {
@@ -81,12 +115,12 @@ void MarlinLink::idle(std::chrono::milliseconds duration,
       const marlin::MarlinReply r = marlin::parse_reply(std::string_view(idle_partial_).substr(0, nl));
       idle_partial_.erase(0, nl + 1);
       if (!on_event) continue;
-      if (r.temperatures.hotend || r.temperatures.bed) on_event({Kind::temperatures, 0, {}, r.temperatures});
-      if (r.kind == marlin::ReplyKind::error) {
-        on_event({Kind::error, 0, r.text, {}});
-        if (r.fatal) on_event({Kind::failed, 0, r.text, {}});
-      }
-      if (r.kind == marlin::ReplyKind::start) on_event({Kind::reset, 0, "the printer restarted", {}});
+      const auto tell = [&](const marlin::SessionEvent& e) {
+        if (auto out = to_link_event(e)) on_event(*out);
+      };
+      if (r.temperatures.hotend || r.temperatures.bed) tell({Kind::temperatures, 0, {}, r.temperatures});
+      if (r.kind == marlin::ReplyKind::error) tell({Kind::error, 0, r.text, {}});
+      if (r.kind == marlin::ReplyKind::start) tell({Kind::reset, 0, "the printer restarted", {}});
     }
     if (idle_partial_.size() > 4096) idle_partial_.clear();  // no newline in 4 KiB: noise
   }
@@ -98,18 +132,19 @@ void MarlinLink::idle(std::chrono::milliseconds duration,
         " s between prints)");
 }
 
-PrintResult MarlinLink::print(std::shared_ptr<const Program> program,
-                              const std::function<void(const marlin::SessionEvent&)>& on_event,
-                              std::size_t resume_from, const std::vector<std::string>& prelude) {
+PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const LinkEventFn& on_event,
+                              std::size_t resume_from) {
   using marlin::SessionState;
   const auto t0 = Clock::now();
   auto now = [&] { return std::chrono::duration_cast<Millis>(Clock::now() - t0); };
   marlin::MarlinSession session(config_.session);
   request_ = kNone;
+  const std::vector<std::string> prelude =
+      program && resume_from > 0 ? marlin::resume_prelude(*program, resume_from) : std::vector<std::string>{};
   session.begin(std::move(program), now(), resume_from, prelude);
   PrintResult result;
   auto finish = [&] {
-    result.state = session.state();
+    result.end = end_of(session.state());
     result.confirmed = session.commands_done();
     result.total = session.commands_total();
     result.lines_resent = session.lines_resent();
@@ -152,7 +187,8 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program,
       if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
       for (const marlin::SessionEvent& e : session.take_events()) {
         if (e.kind == marlin::SessionEvent::Kind::failed && result.reason.empty()) result.reason = e.text;
-        if (on_event) on_event(e);
+        if (!on_event) continue;
+        if (auto out = to_link_event(e)) on_event(*out);
       }
       const SessionState s = session.state();
       if (s == SessionState::finished || s == SessionState::failed ||
@@ -168,7 +204,7 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program,
     result.disconnected = true;
     result.reason = e.what();
     finish();
-    result.state = SessionState::failed;
+    result.end = PrintEnd::failed;
     return result;
   }
 }

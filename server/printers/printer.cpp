@@ -2,7 +2,7 @@
 // for the printer's thread or sets a request on the running link (see printer.hpp).
 #include "server/printers/printer.hpp"
 
-#include "protocol/serial/marlin_link.hpp"
+#include "protocol/link/printer_link.hpp"
 #include "server/common/domain_error.hpp"
 #include "server/printers/print_file.hpp"
 #include "server/printers/sim_process.hpp"

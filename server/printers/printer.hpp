@@ -1,9 +1,9 @@
-// Printer: one attached printer and the thread that owns its link. The thread connects (through
-// open_printer_connection), listens between prints, runs prints and console commands, and writes
-// each print's progress (the last acknowledged command) to the database as it goes. Requests
-// from other threads are checked against the state (Conflict when they make no sense now) and
-// queued for the thread (CommandQueue); pause, resume, cancel and emergency stop reach a running
-// print at once.
+// Printer: one attached printer and the thread that owns its link (a protocol::PrinterLink: nothing
+// here knows the protocol). The thread connects (open_printer_connection), listens between prints,
+// runs prints and console commands, and writes each print's progress (the last acknowledged
+// command) to the database as it goes. Requests from other threads are checked against the state
+// (Conflict when they make no sense now) and queued for the thread (CommandQueue); pause, resume,
+// cancel and emergency stop reach a running print at once.
 //
 // States (PrinterState): disconnected → connecting → operational ⇄ printing ⇄ paused; printing or
 // paused → cancelling → operational; error after a failure (link lost, firmware halted,
@@ -36,13 +36,11 @@
 #include "server/store/print_store.hpp"
 #include "server/store/store.hpp"
 
-namespace salient::protocol::serial {
-class MarlinLink;
+namespace salient::protocol {
+class PrinterLink;
+struct LinkEvent;
 struct PrintResult;
-}  // namespace salient::protocol::serial
-namespace salient::protocol::marlin {
-struct SessionEvent;
-}
+}  // namespace salient::protocol
 
 namespace salient::server {
 
@@ -93,7 +91,7 @@ class Printer {
     std::chrono::steady_clock::time_point last_notify{}, last_save = std::chrono::steady_clock::now();
     std::chrono::steady_clock::time_point saves_paused_until{};  // after a full disk
   };
-  using EventFn = std::function<void(const protocol::marlin::SessionEvent&)>;
+  using EventFn = std::function<void(const protocol::LinkEvent&)>;
   // printer.cpp: what other threads call.
   long long start_print(const PrintRequest& request);
   void refuse_unless_ready() const;  // under mutex_
@@ -104,10 +102,9 @@ class Printer {
   void run_console(const std::vector<std::string>& lines, const EventFn& on_event);
   void open_link();
   void close_link(PrinterState state, const std::string& error);
-  void handle_event(const protocol::marlin::SessionEvent& e, Throttle& throttle);
+  void handle_event(const protocol::LinkEvent& e, Throttle& throttle);
   void run_print(const PrintCommand& print, const EventFn& on_event);
-  PrintState print_outcome(const protocol::serial::PrintResult& result, bool interrupted,
-                           bool cancelled) const;
+  PrintState print_outcome(const protocol::PrintResult& result, bool interrupted, bool cancelled) const;
   void set_state(PrinterState state, const std::string& error = {});
 
   PrinterConfig config_;
@@ -123,8 +120,8 @@ class Printer {
   bool commands_running_ = false;  // console commands are being streamed
 
   std::unique_ptr<SimProcess> sim_;
-  std::unique_ptr<protocol::serial::MarlinLink> link_;  // owned by the thread; pointer read under mutex_
-  protocol::serial::MarlinLink* connecting_ = nullptr;  // during the handshake, under mutex_
+  std::unique_ptr<protocol::PrinterLink> link_;  // owned by the thread; pointer read under mutex_
+  protocol::PrinterLink* connecting_ = nullptr;  // during the handshake, under mutex_
 
   // The status, under mutex_.
   PrinterState state_ = PrinterState::disconnected;

@@ -1,5 +1,6 @@
 #include "server/printers/printer_connection.hpp"
 
+#include "protocol/serial/marlin_link.hpp"
 #include "server/printers/terminal_tap.hpp"
 
 namespace salient::server {

@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "protocol/serial/marlin_link.hpp"
+#include "protocol/link/printer_link.hpp"
 #include "server/config/daemon_config.hpp"
 #include "server/printers/sim_process.hpp"
 
@@ -21,12 +21,12 @@ struct TerminalHooks {
 };
 
 struct PrinterConnection {
-  std::unique_ptr<protocol::serial::MarlinLink> link;  // not yet handshaken
-  std::unique_ptr<SimProcess> sim;                     // kind sim: the simulator, stopped when this goes
-  std::string device;                                  // where it is: a device path or host:port
+  std::unique_ptr<protocol::PrinterLink> link;  // not yet handshaken
+  std::unique_ptr<SimProcess> sim;              // kind sim: the simulator, stopped when this goes
+  std::string device;                           // where it is: a device path or host:port
 };
 
-// Throws (std::runtime_error, LinkError) naming what failed.
+// Throws (std::runtime_error, protocol::LinkError) naming what failed.
 PrinterConnection open_printer_connection(const PrinterConfig& config, TerminalHooks terminal);
 
 }  // namespace salient::server

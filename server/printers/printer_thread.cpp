@@ -3,8 +3,7 @@
 // reports into the status and the database (see printer.hpp for the threading rule).
 #include <algorithm>
 
-#include "protocol/marlin/resume_prelude.hpp"
-#include "protocol/serial/marlin_link.hpp"
+#include "protocol/link/printer_link.hpp"
 #include "server/printers/printer.hpp"
 #include "server/printers/printer_connection.hpp"
 
@@ -12,8 +11,10 @@ namespace salient::server {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-namespace serial = protocol::serial;
-namespace marlin = protocol::marlin;
+using protocol::LinkError;
+using protocol::LinkEvent;
+using protocol::PrintEnd;
+using protocol::PrintResult;
 
 const std::string kHalted = "emergency stop (M112): the firmware halted; connect again to go on";
 
@@ -41,7 +42,7 @@ void Printer::set_state(PrinterState state, const std::string& error) {
 
 void Printer::run() {
   Throttle throttle;
-  const EventFn on_event = [this, &throttle](const marlin::SessionEvent& e) { handle_event(e, throttle); };
+  const EventFn on_event = [this, &throttle](const LinkEvent& e) { handle_event(e, throttle); };
   for (;;) {
     std::unique_lock lock(mutex_);
     if (!link_) wake_.wait(lock, [&] { return stopping_ || queue_.connect_waiting(); });
@@ -52,7 +53,7 @@ void Printer::run() {
     if (!next) {
       try {
         link_->idle(std::chrono::milliseconds(100), on_event);
-      } catch (const serial::LinkError& e) {
+      } catch (const LinkError& e) {
         close_link(PrinterState::error, e.what());
       }
       continue;
@@ -61,8 +62,8 @@ void Printer::run() {
                           [&](const DisconnectCommand&) { close_link(PrinterState::disconnected, ""); },
                           [&](const EmergencyStopCommand&) {
                             try {
-                              link_->send_now("M112");
-                            } catch (const serial::LinkError&) {
+                              link_->halt_now();
+                            } catch (const LinkError&) {
                             }
                             close_link(PrinterState::error, kHalted);
                           },
@@ -75,7 +76,7 @@ void Printer::run() {
 
 void Printer::run_console(const std::vector<std::string>& lines, const EventFn& on_event) {
   try {
-    const serial::PrintResult r = link_->print(
+    const PrintResult r = link_->print(
         std::make_shared<const protocol::Program>(protocol::Program::from_lines(lines)), on_event);
     {
       std::lock_guard done(mutex_);
@@ -83,9 +84,9 @@ void Printer::run_console(const std::vector<std::string>& lines, const EventFn& 
     }
     if (r.disconnected)
       close_link(PrinterState::error, r.reason);
-    else if (r.state == marlin::SessionState::failed)
+    else if (r.end == PrintEnd::failed)
       close_link(PrinterState::error, r.reason == "emergency stop" ? kHalted : r.reason);
-  } catch (const serial::LinkError& e) {
+  } catch (const LinkError& e) {
     {
       std::lock_guard done(mutex_);
       commands_running_ = false;
@@ -107,7 +108,7 @@ void Printer::open_link() {
       if (stopping_) c.link->interrupt();
       connecting_ = c.link.get();
     }
-    serial::FirmwareInfo firmware;
+    protocol::FirmwareInfo firmware;
     try {
       firmware = c.link->handshake();
     } catch (...) {
@@ -136,7 +137,7 @@ void Printer::open_link() {
 }
 
 void Printer::close_link(PrinterState state, const std::string& error) {
-  std::unique_ptr<serial::MarlinLink> link;
+  std::unique_ptr<protocol::PrinterLink> link;
   std::unique_ptr<SimProcess> sim;
   {
     std::lock_guard lock(mutex_);
@@ -156,22 +157,21 @@ void Printer::close_link(PrinterState state, const std::string& error) {
   notify(false);
 }
 
-void Printer::handle_event(const marlin::SessionEvent& e, Throttle& throttle) {
-  using Kind = marlin::SessionEvent::Kind;
+void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
+  using Kind = LinkEvent::Kind;
   bool tell = false, save = false;
   long long print_id = 0, confirmed = 0;
   PrintState state = PrintState::printing;
   {
     std::lock_guard lock(mutex_);
     if (e.kind == Kind::temperatures) {
-      const auto& t = e.temperatures;
-      if (t.hotend) hotend_.actual = t.hotend;
-      if (t.hotend_target) hotend_.target = t.hotend_target;
-      if (t.bed) bed_.actual = t.bed;
-      if (t.bed_target) bed_.target = t.bed_target;
+      if (e.hotend) hotend_.actual = e.hotend;
+      if (e.hotend_target) hotend_.target = e.hotend_target;
+      if (e.bed) bed_.actual = e.bed;
+      if (e.bed_target) bed_.target = e.bed_target;
       tell = true;
-    } else if (e.kind == Kind::acknowledged && current_) {
-      current_->confirmed = e.line;
+    } else if (e.kind == Kind::progress && current_) {
+      current_->confirmed = static_cast<long long>(e.done);
       tell = true;
       // Saved at most every 20 ms: a kill -9 repeats at most that much of the print on resume.
       if (Clock::now() - throttle.last_save >= std::chrono::milliseconds(20)) {
@@ -196,29 +196,29 @@ void Printer::handle_event(const marlin::SessionEvent& e, Throttle& throttle) {
   }
 }
 
-PrintState Printer::print_outcome(const serial::PrintResult& result, bool interrupted, bool cancelled) const {
-  switch (result.state) {
-    case marlin::SessionState::finished:
+PrintState Printer::print_outcome(const PrintResult& result, bool interrupted, bool cancelled) const {
+  switch (result.end) {
+    case PrintEnd::finished:
       return PrintState::finished;
-    case marlin::SessionState::cancelled:
+    case PrintEnd::cancelled:
       return interrupted ? PrintState::interrupted : PrintState::cancelled;
-    default:  // failed: a cancel that had to halt the firmware, or whose printer went silent, is still a
-              // cancel
+    case PrintEnd::failed:
+      // A cancel that had to halt the firmware, or whose printer went silent, is still a cancel.
       return cancelled || result.halted           ? PrintState::cancelled
              : interrupted || result.disconnected ? PrintState::interrupted
                                                   : PrintState::failed;
   }
+  return PrintState::failed;
 }
 
 void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
   const PrintRequest& request = print.request;
-  serial::PrintResult result;
+  PrintResult result;
   PrintState state = PrintState::failed;
+  bool streamed = false;  // the link ran it (not an exception before)
   try {
-    const std::vector<std::string> prelude = request.resume_from > 0
-                                                 ? marlin::resume_prelude(*print.program, request.resume_from)
-                                                 : std::vector<std::string>{};
-    result = link_->print(print.program, on_event, request.resume_from, prelude);
+    result = link_->print(print.program, on_event, request.resume_from);
+    streamed = true;
     bool interrupted = false, cancelled = false;
     {
       std::lock_guard lock(mutex_);
@@ -257,7 +257,7 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
   }
   if (result.disconnected)
     return close_link(PrinterState::error, "link lost during the print: " + result.reason);
-  if (result.state == marlin::SessionState::failed)
+  if (streamed && result.end == PrintEnd::failed)
     return close_link(PrinterState::error, result.reason.empty() ? "the print failed" : result.reason);
   notify(false);
 }
