@@ -350,8 +350,34 @@ void MarlinSession::handle_resend(long long line, Millis now) {
   resent_below_ = line + static_cast<long long>(again.size());
 }
 
+void MarlinSession::listen(const MarlinReply& r) {
+  using K = SessionEvent::Kind;
+  if (r.temperatures.hotend || r.temperatures.bed)
+    events_.push_back({K::temperatures, 0, {}, r.temperatures});
+  if (r.kind == ReplyKind::error) events_.push_back({K::error, 0, r.text, {}});
+  if (r.kind == ReplyKind::start) events_.push_back({K::reset, 0, "the printer restarted", {}});
+}
+
+void MarlinSession::listen_tick(Millis now) {
+  if (!config_.autoreport_temperature && (!last_poll_ || now - *last_poll_ >= config_.idle_poll)) {
+    output_ += "M105\n";  // unnumbered: no line number to keep in step between prints
+    last_poll_ = now;
+  }
+  if (lost_ || now - last_heard_ <= config_.idle_silence_limit) return;
+  lost_ = true;
+  events_.push_back(
+      {SessionEvent::Kind::timeout,
+       0,
+       "the printer stopped answering (nothing heard for " +
+           std::to_string(
+               std::chrono::duration_cast<std::chrono::seconds>(config_.idle_silence_limit).count()) +
+           " s between prints)",
+       {}});
+}
+
 void MarlinSession::handle(const MarlinReply& r, Millis now) {
   using K = SessionEvent::Kind;
+  if (state_ == SessionState::idle) return listen(r);
   switch (r.kind) {
     case ReplyKind::ok:
       handle_ok(r, now);
@@ -409,6 +435,7 @@ void MarlinSession::on_receive(std::string_view bytes, Millis now) {
 }
 
 void MarlinSession::on_tick(Millis now) {
+  if (state_ == SessionState::idle) return listen_tick(now);
   if (state_ == SessionState::failed) return;
   if (resend_oks_due_ > 0 && now >= resend_ok_deadline_) {  // this firmware sends no ok after Resend
     resend_oks_due_ = 0;

@@ -3,6 +3,11 @@
 // take_output() returns; nothing here touches a port or a clock.
 //
 // States: idle → printing ⇄ paused → finished | failed | cancelled.
+//
+// A session that has not begun a print listens: between prints the printer speaks unprompted
+// (temperature reports, the replies to our M105 polls, errors, a restart), and on_receive turns
+// that into temperatures, error and reset events; on_tick sends the polls and, after
+// idle_silence_limit without a byte, reports the printer lost (a timeout event, once).
 #pragma once
 
 #include <algorithm>
@@ -11,6 +16,7 @@
 #include <deque>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -50,6 +56,12 @@ struct SessionConfig {
   // ok and stops after two requests went unanswered for resend_ok_wait without ever seeing one.
   enum class OkAfterResend { detect, yes, no } ok_after_resend = OkAfterResend::detect;
   Millis resend_ok_wait{500};
+  // Between prints: an unnumbered M105 every idle_poll unless the firmware reports temperatures
+  // itself (M115's Cap:AUTOREPORT_TEMP, turned on with M155); nothing heard for
+  // idle_silence_limit means the printer is gone.
+  bool autoreport_temperature = false;
+  Millis idle_poll{2000};
+  Millis idle_silence_limit{15000};
 };
 
 struct SessionEvent {
@@ -95,6 +107,8 @@ class MarlinSession {
 
   void on_receive(std::string_view bytes, Millis now);
   void on_tick(Millis now);
+  // The driver heard the printer elsewhere (a print's own session): the silence counts from `now`.
+  void heard(Millis now) { last_heard_ = std::max(last_heard_, now); }
 
   std::string take_output();
   std::vector<SessionEvent> take_events();
@@ -122,6 +136,8 @@ class MarlinSession {
   bool nothing_to_send() const { return queue_.empty() && next_command_ >= program_->size(); }
   void drop_queue();  // nothing more of the program or the host's lines goes
   void handle(const MarlinReply& reply, Millis now);
+  void listen(const MarlinReply& reply);  // between prints
+  void listen_tick(Millis now);
   void handle_ok(const MarlinReply& reply, Millis now);
   void handle_resend(long long line, Millis now);
   void acknowledge(Millis now, bool sample = true);
@@ -161,6 +177,8 @@ class MarlinSession {
   Millis poke_wait_{0}, last_heard_{0};
   bool halted_ = false;
   Millis next_m108_{Millis::max()};  // a cancel during a heating wait: when M108 goes again
+  std::optional<Millis> last_poll_;  // between prints: when M105 last went
+  bool lost_ = false;                // between prints: the silence was reported
   long long resent_below_ = -1;      // lines numbered below this, sent after a rewind, are resends
   // What the machine is busy with: the least time of each command sent lately, as many as a
   // planner holds (Marlin's BLOCK_BUFFER_SIZE 16, plus its BUFSIZE 4).

@@ -69,7 +69,11 @@ PrintEnd end_of(marlin::SessionState s) {
 }  // namespace
 
 MarlinLink::MarlinLink(std::unique_ptr<Transport> transport, LinkConfig config)
-    : transport_(std::move(transport)), config_(std::move(config)) {}
+    : transport_(std::move(transport)), config_(std::move(config)), start_(Clock::now()) {}
+
+marlin::Millis MarlinLink::since_start() const {
+  return std::chrono::duration_cast<Millis>(Clock::now() - start_);
+}
 
 FirmwareInfo MarlinLink::handshake() {
   transport_->discard_input();
@@ -90,7 +94,9 @@ FirmwareInfo MarlinLink::handshake() {
     if (firmware_.autoreport_temperature && config_.autoreport_seconds > 0)
       exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout,
                request_, kInterrupt);
-    idle_heard_ = Clock::now();
+    config_.session.autoreport_temperature = firmware_.autoreport_temperature;
+    idle_ = std::make_unique<marlin::MarlinSession>(config_.session);
+    idle_->heard(since_start());
     return firmware_;
   }
   throw LinkError(transport_->describe() + ": no answer to M115 after " +
@@ -99,37 +105,29 @@ FirmwareInfo MarlinLink::handshake() {
 }
 
 void MarlinLink::idle(std::chrono::milliseconds duration, const LinkEventFn& on_event) {
-  const std::chrono::milliseconds poll(2000);
-  using Kind = marlin::SessionEvent::Kind;
+  if (!idle_) idle_ = std::make_unique<marlin::MarlinSession>(config_.session);
+  marlin::MarlinSession& session = *idle_;
   const auto until = Clock::now() + duration;
-  if (!firmware_.autoreport_temperature && Clock::now() - last_poll_ >= poll) {
-    transport_->write("M105\n");
-    last_poll_ = Clock::now();
-  }
+  // What the printer says is the session's to interpret; here only bytes and time move.
+  const auto pass = [&] {
+    if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
+    for (const marlin::SessionEvent& e : session.take_events()) {
+      if (e.kind == marlin::SessionEvent::Kind::timeout)
+        throw LinkError(transport_->describe() + ": " + e.text);
+      if (!on_event) continue;
+      if (auto out = to_link_event(e)) on_event(*out);
+    }
+  };
+  session.on_tick(since_start());
+  pass();
   while (Clock::now() < until) {
     const std::string bytes =
         transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
-    if (!bytes.empty()) idle_heard_ = Clock::now();
-    idle_partial_ += bytes;
-    for (std::size_t nl; (nl = idle_partial_.find('\n')) != std::string::npos;) {
-      const marlin::MarlinReply r = marlin::parse_reply(std::string_view(idle_partial_).substr(0, nl));
-      idle_partial_.erase(0, nl + 1);
-      if (!on_event) continue;
-      const auto tell = [&](const marlin::SessionEvent& e) {
-        if (auto out = to_link_event(e)) on_event(*out);
-      };
-      if (r.temperatures.hotend || r.temperatures.bed) tell({Kind::temperatures, 0, {}, r.temperatures});
-      if (r.kind == marlin::ReplyKind::error) tell({Kind::error, 0, r.text, {}});
-      if (r.kind == marlin::ReplyKind::start) tell({Kind::reset, 0, "the printer restarted", {}});
-    }
-    if (idle_partial_.size() > 4096) idle_partial_.clear();  // no newline in 4 KiB: noise
+    if (!bytes.empty()) session.on_receive(bytes, since_start());
+    pass();
   }
-  // Polled (or auto-reporting) every few seconds: this long without a byte, the board is gone.
-  if (Clock::now() - idle_heard_ > config_.idle_silence_limit)
-    throw LinkError(
-        transport_->describe() + ": the printer stopped answering (nothing heard for " +
-        std::to_string(std::chrono::duration_cast<std::chrono::seconds>(config_.idle_silence_limit).count()) +
-        " s between prints)");
+  session.on_tick(since_start());
+  pass();
 }
 
 PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const LinkEventFn& on_event,
@@ -151,7 +149,7 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const Link
     result.pokes = session.pokes_sent();
     result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     result.halted = session.halted();
-    idle_heard_ = Clock::now();  // the print's own replies count for the time between prints
+    if (idle_) idle_->heard(since_start());  // the print's own replies count for the time between prints
     return result;
   };
   // A daemon that stops gives the printer this long to take the heaters-off lines, then goes.

@@ -27,7 +27,6 @@ struct LinkConfig {
   // Sent after a cancel: heaters and fan off, lift, motors off.
   std::vector<std::string> cancel_gcode = {"M104 S0", "M140 S0", "M107", "G91", "G1 Z5 F600", "G90", "M84"};
   std::chrono::milliseconds interrupt_wait{2000};  // interrupt(): the longest wait for its heaters-off lines
-  std::chrono::milliseconds idle_silence_limit{15000};  // idle(): nothing heard this long is a lost printer
 };
 
 using protocol::FirmwareInfo;
@@ -46,7 +45,7 @@ class MarlinLink : public PrinterLink {
   // that a host needs, on this thread.
   PrintResult print(std::shared_ptr<const Program> program, const LinkEventFn& on_event = {},
                     std::size_t resume_from = 0) override;
-  // Polls with an unnumbered M105 every 2 s when the firmware does not auto-report.
+  // A MarlinSession that begun no print listens (temperatures, errors, restarts, polls, silence).
   void idle(std::chrono::milliseconds duration, const LinkEventFn& on_event) override;
   // M112, unnumbered.
   void halt_now() override { transport_->write("M112\n"); }
@@ -65,8 +64,9 @@ class MarlinLink : public PrinterLink {
   LinkConfig config_;
   FirmwareInfo firmware_;
   std::atomic<int> request_{kNone};
-  std::string idle_partial_;
-  std::chrono::steady_clock::time_point last_poll_{}, idle_heard_ = std::chrono::steady_clock::now();
+  marlin::Millis since_start() const;  // the idle session's clock
+  std::chrono::steady_clock::time_point start_;
+  std::unique_ptr<marlin::MarlinSession> idle_;  // between prints: listens (made by the handshake)
 };
 
 }  // namespace salient::protocol::serial
