@@ -356,6 +356,9 @@ void MarlinSession::listen(const MarlinReply& r) {
     events_.push_back({K::temperatures, 0, {}, r.temperatures});
   if (r.kind == ReplyKind::error) events_.push_back({K::error, 0, r.text, {}});
   if (r.kind == ReplyKind::start) events_.push_back({K::reset, 0, "the printer restarted", {}});
+  if (r.kind == ReplyKind::firmware) events_.push_back({K::firmware, 0, r.name, {}});
+  if (r.kind == ReplyKind::capability && r.enabled) events_.push_back({K::capability, 0, r.name, {}});
+  if (r.kind == ReplyKind::ok) ++oks_heard_;
 }
 
 void MarlinSession::listen_tick(Millis now) {

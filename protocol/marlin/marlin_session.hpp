@@ -4,10 +4,11 @@
 //
 // States: idle → printing ⇄ paused → finished | failed | cancelled.
 //
-// A session that has not begun a print listens: between prints the printer speaks unprompted
-// (temperature reports, the replies to our M105 polls, errors, a restart), and on_receive turns
-// that into temperatures, error and reset events; on_tick sends the polls and, after
-// idle_silence_limit without a byte, reports the printer lost (a timeout event, once).
+// A session that has not begun a print listens: to the handshake's M115 (firmware and capability
+// events; oks_heard() counts the oks), and between prints to what the printer says unprompted
+// (temperature reports, the replies to our M105 polls, errors, a restart), which become
+// temperatures, error and reset events; on_tick sends the polls and, after idle_silence_limit
+// without a byte, reports the printer lost (a timeout event, once).
 #pragma once
 
 #include <algorithm>
@@ -109,6 +110,7 @@ class MarlinSession {
   void on_tick(Millis now);
   // The driver heard the printer elsewhere (a print's own session): the silence counts from `now`.
   void heard(Millis now) { last_heard_ = std::max(last_heard_, now); }
+  std::size_t oks_heard() const { return oks_heard_; }  // listening: the replies that ended
 
   std::string take_output();
   std::vector<SessionEvent> take_events();
@@ -179,7 +181,8 @@ class MarlinSession {
   Millis next_m108_{Millis::max()};  // a cancel during a heating wait: when M108 goes again
   std::optional<Millis> last_poll_;  // between prints: when M105 last went
   bool lost_ = false;                // between prints: the silence was reported
-  long long resent_below_ = -1;      // lines numbered below this, sent after a rewind, are resends
+  std::size_t oks_heard_ = 0;
+  long long resent_below_ = -1;  // lines numbered below this, sent after a rewind, are resends
   // What the machine is busy with: the least time of each command sent lately, as many as a
   // planner holds (Marlin's BLOCK_BUFFER_SIZE 16, plus its BUFSIZE 4).
   struct Motion {

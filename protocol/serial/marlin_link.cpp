@@ -2,7 +2,6 @@
 
 #include <algorithm>
 
-#include "protocol/marlin/marlin_reply.hpp"
 #include "protocol/marlin/resume_prelude.hpp"
 
 namespace salient::protocol::serial {
@@ -10,27 +9,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 using marlin::Millis;
-
-// Sends an unnumbered command and collects the reply up to its ok; empty on timeout, or as soon
-// as `abort` is set (the daemon stops while a silent board is being asked).
-std::vector<marlin::MarlinReply> exchange(Transport& t, const std::string& command,
-                                          std::chrono::milliseconds timeout, const std::atomic<int>& abort,
-                                          int abort_value) {
-  t.write(command + "\n");
-  std::vector<marlin::MarlinReply> replies;
-  std::string partial;
-  const auto until = Clock::now() + timeout;
-  while (Clock::now() < until && abort.load() != abort_value) {
-    const auto left = std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(50));
-    partial += t.read(std::chrono::duration_cast<std::chrono::microseconds>(left));
-    for (std::size_t nl; (nl = partial.find('\n')) != std::string::npos;) {
-      replies.push_back(marlin::parse_reply(std::string_view(partial).substr(0, nl)));
-      partial.erase(0, nl + 1);
-      if (replies.back().kind == marlin::ReplyKind::ok) return replies;
-    }
-  }
-  return {};
-}
 
 // The session's events a host needs, in the link's vocabulary (the rest — firmware, capability,
 // action, timeout, finished, failed — is the link's own business or in the PrintResult).
@@ -75,25 +53,43 @@ marlin::Millis MarlinLink::since_start() const {
   return std::chrono::duration_cast<Millis>(Clock::now() - start_);
 }
 
+// Sends an unnumbered command to a listening session's printer and passes on what it answers
+// until its ok; false on timeout, or as soon as an interrupt is asked for (the daemon stops
+// while a silent board is being asked).
+bool MarlinLink::exchange(marlin::MarlinSession& listener, const std::string& command,
+                          std::vector<marlin::SessionEvent>& heard) {
+  transport_->write(command + "\n");
+  const std::size_t oks = listener.oks_heard();
+  const auto until = Clock::now() + config_.handshake_timeout;
+  while (Clock::now() < until && request_.load() != kInterrupt) {
+    const auto left = std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(50));
+    listener.on_receive(transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(left)),
+                        since_start());
+    for (marlin::SessionEvent& e : listener.take_events()) heard.push_back(std::move(e));
+    if (listener.oks_heard() > oks) return true;
+  }
+  return false;
+}
+
 FirmwareInfo MarlinLink::handshake() {
+  using Kind = marlin::SessionEvent::Kind;
   transport_->discard_input();
   transport_->write("\n");  // ends whatever half line the firmware may hold
   for (int attempt = 0; attempt < config_.handshake_attempts; ++attempt) {
-    const auto replies = exchange(*transport_, "M115", config_.handshake_timeout, request_, kInterrupt);
+    marlin::MarlinSession listener(config_.session);  // a fresh one: nothing of a half answer
+    std::vector<marlin::SessionEvent> heard;
+    const bool answered = exchange(listener, "M115", heard);
     if (request_.load() == kInterrupt)
       throw LinkError(transport_->describe() + ": connecting was interrupted");
-    if (replies.empty()) continue;
-    for (const auto& r : replies) {
-      if (r.kind == marlin::ReplyKind::firmware) firmware_.name = r.name;
-      if (r.kind == marlin::ReplyKind::capability && r.name == "EMERGENCY_PARSER")
-        firmware_.emergency_parser = r.enabled;
-      if (r.kind == marlin::ReplyKind::capability && r.name == "AUTOREPORT_TEMP")
-        firmware_.autoreport_temperature = r.enabled;
+    if (!answered) continue;
+    for (const marlin::SessionEvent& e : heard) {
+      if (e.kind == Kind::firmware) firmware_.name = e.text;
+      if (e.kind == Kind::capability && e.text == "EMERGENCY_PARSER") firmware_.emergency_parser = true;
+      if (e.kind == Kind::capability && e.text == "AUTOREPORT_TEMP") firmware_.autoreport_temperature = true;
     }
     config_.session.emergency_parser = firmware_.emergency_parser;
     if (firmware_.autoreport_temperature && config_.autoreport_seconds > 0)
-      exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout,
-               request_, kInterrupt);
+      exchange(listener, "M155 S" + std::to_string(config_.autoreport_seconds), heard);
     config_.session.autoreport_temperature = firmware_.autoreport_temperature;
     idle_ = std::make_unique<marlin::MarlinSession>(config_.session);
     idle_->heard(since_start());

@@ -64,7 +64,9 @@ class MarlinLink : public PrinterLink {
   LinkConfig config_;
   FirmwareInfo firmware_;
   std::atomic<int> request_{kNone};
-  marlin::Millis since_start() const;  // the idle session's clock
+  marlin::Millis since_start() const;  // the listening sessions' clock
+  bool exchange(marlin::MarlinSession& listener, const std::string& command,
+                std::vector<marlin::SessionEvent>& heard);
   std::chrono::steady_clock::time_point start_;
   std::unique_ptr<marlin::MarlinSession> idle_;  // between prints: listens (made by the handshake)
 };

@@ -2,8 +2,8 @@
 // with time passing. It must not crash, every line it sends must frame correctly, it must never
 // count more commands done than it was given, and it must never send a line number again unless
 // a Resend request for that line or an earlier one came in since. A second session that began no
-// print hears the same bytes, as between prints: it may only poll (unnumbered M105) and report
-// temperatures, errors, restarts and, once, silence.
+// print hears the same bytes, as in a handshake or between prints: it may only poll (unnumbered
+// M105) and report firmware, capabilities, temperatures, errors, restarts and, once, silence.
 #include <cstdint>
 #include <cstdlib>
 #include <map>

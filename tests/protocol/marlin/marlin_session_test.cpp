@@ -473,3 +473,19 @@ TEST_CASE("between prints a session listens: polls, temperatures, errors, a rest
   quiet.on_tick(milliseconds(0));
   CHECK(quiet.take_output().empty());
 }
+
+TEST_CASE(
+    "a listening session hears the handshake: firmware, enabled capabilities, and the ok that ends it") {
+  MarlinSession s;
+  s.on_receive("FIRMWARE_NAME:Marlin 2.1.2 (salient-sim)\nCap:EMERGENCY_PARSER:1\nCap:AUTOREPORT_TEMP:0\n",
+               milliseconds(5));
+  CHECK(s.oks_heard() == 0);
+  s.on_receive("ok\n", milliseconds(6));
+  CHECK(s.oks_heard() == 1);
+  const auto events = s.take_events();
+  REQUIRE(events.size() == 2);  // a capability that is off says nothing
+  CHECK(events[0].kind == SessionEvent::Kind::firmware);
+  CHECK(events[0].text.find("Marlin") != std::string::npos);
+  CHECK(events[1].kind == SessionEvent::Kind::capability);
+  CHECK(events[1].text == "EMERGENCY_PARSER");
+}
