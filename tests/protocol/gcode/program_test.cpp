@@ -26,7 +26,8 @@ TEST_CASE("commands without comments or blank lines, with their byte offsets and
   CHECK(Program::parse("G28\n").size() == 1);
 }
 
-TEST_CASE("layers: ;LAYER_CHANGE when the file has it (PrusaSlicer), else ;LAYER: (Cura)") {
+TEST_CASE(
+    "layers: counted at LAYER_CHANGE comments when the file has them (PrusaSlicer), else at LAYER: (Cura)") {
   const Program prusa = Program::parse(
       "G28\n;LAYER_CHANGE\n;Z:0.2\n;LAYER:0\nG1 Z0.2\nG1 X1\n;LAYER_CHANGE\n;LAYER:1\nG1 Z0.4\n");
   REQUIRE(prusa.size() == 4);
