@@ -39,7 +39,7 @@ TEST_CASE("an idle printer: names for its kind, protocol and state, nulls for wh
   CHECK(j.size() == 11);
 }
 
-TEST_CASE("a running print: progress, elapsed and eta; the last print says whether it can resume") {
+TEST_CASE("a running print: progress, elapsed and eta, and the last print says whether it can resume") {
   PrinterStatus s;
   s.id = "sim", s.state = PrinterState::paused;
   s.print = PrinterStatus::Running{record(PrintState::paused, 250, 1000), 30.0};

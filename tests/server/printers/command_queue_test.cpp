@@ -16,7 +16,7 @@ bool next_is(CommandQueue& q, bool linked = true) {
 }  // namespace
 
 TEST_CASE(
-    "without a link only a connect goes; with one, a disconnect, an e-stop, a print, then console batches") {
+    "without a link only a connect goes, with one a disconnect, an e-stop, a print, then console batches") {
   CommandQueue q;
   q.push(ConsoleCommand{{"G28"}});
   q.push(ConsoleCommand{{"M105"}});
@@ -41,7 +41,8 @@ TEST_CASE(
   CHECK(q.empty());
 }
 
-TEST_CASE("a disconnect drops a waiting connect and the other way round; a linked printer drops a connect") {
+TEST_CASE(
+    "a disconnect drops a waiting connect and the other way round, and a linked printer drops a connect") {
   CommandQueue q;
   q.push(ConnectCommand{});
   q.push(DisconnectCommand{});
