@@ -97,7 +97,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
   const ApiKeys keys(store);
   EventHub hub;
-  PrinterService printers(config, store, hub);
+  PrinterService printers(config, store, printer_event_publisher(hub));
   hub.set_snapshot(event_snapshots(store, printers));
   const auto publish_job = job_event_publisher(hub);
   JobService jobs(store,

@@ -17,8 +17,7 @@
 #include "clients/cli/commands.hpp"
 #include "core/common/input_error.hpp"
 #include "core/gcode/time_estimator.hpp"
-#include "protocol/marlin/line_codec.hpp"
-#include "protocol/marlin/resume_prelude.hpp"
+#include "protocol/gcode/program.hpp"
 #include "protocol/serial/marlin_link.hpp"
 
 namespace salient::cli {
@@ -49,23 +48,6 @@ struct Progress {
   std::string last_error;
   std::size_t resends = 0;
 };
-
-// Per command: its layer (from ;LAYER_CHANGE, or ;LAYER: when there is none).
-std::vector<std::size_t> command_layers(const std::vector<std::string>& lines) {
-  bool change = false;
-  for (const std::string& l : lines) change = change || l.rfind(";LAYER_CHANGE", 0) == 0;
-  std::vector<std::size_t> layer_of;
-  std::size_t layer = 0;
-  bool started = false;
-  for (const std::string& l : lines) {
-    if (l.rfind(change ? ";LAYER_CHANGE" : ";LAYER:", 0) == 0) {
-      if (started) ++layer;
-      started = true;
-    }
-    if (!marlin::strip_comment(l).empty()) layer_of.push_back(layer);
-  }
-  return layer_of;
-}
 
 std::string hms(double seconds) {
   const long s = std::lround(std::max(0.0, seconds));
@@ -121,20 +103,15 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       if (!in) throw core::InputError(name, {}, "cannot open for reading");
       std::ostringstream text;
       text << in.rdbuf();
-      const core::GcodeEstimate estimate = core::estimate_gcode(text.str(), name);
-      std::vector<std::string> lines;
-      {
-        std::istringstream split(text.str());
-        for (std::string l; std::getline(split, l);) {
-          if (!l.empty() && l.back() == '\r') l.pop_back();
-          lines.push_back(std::move(l));
-        }
-      }
-      const std::vector<std::size_t> layer_of = command_layers(lines);
-      const std::size_t layers = layer_of.empty() ? 0 : layer_of.back() + 1;
-      if (o->resume_from > layer_of.size())
+      std::string gcode = std::move(text).str();
+      const core::GcodeEstimate estimate = core::estimate_gcode(gcode, name);
+      const auto program = std::make_shared<const protocol::Program>(protocol::Program::parse(gcode));
+      std::string().swap(gcode);  // the program is what stays in memory while it prints
+      const protocol::Program& commands = *program;
+      const std::size_t layers = commands.layers();
+      if (o->resume_from > commands.size())
         throw core::InputError("--resume-from", {},
-                               "the file has only " + std::to_string(layer_of.size()) + " commands");
+                               "the file has only " + std::to_string(commands.size()) + " commands");
 
       serial::LinkConfig config;
       config.session.reply_timeout = marlin::Millis(static_cast<long long>(o->timeout * 1000));
@@ -152,8 +129,6 @@ void add_print_command(CLI::App& app, CommandAction& action) {
 
       Progress progress;
       progress.done = o->resume_from;
-      const std::vector<std::string> prelude =
-          o->resume_from > 0 ? marlin::resume_prelude(lines, o->resume_from) : std::vector<std::string>{};
       serial::PrintResult result;
       std::atomic<bool> over{false};
       struct sigaction sa {
@@ -164,22 +139,19 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       ::sigaction(SIGTERM, &sa, &old_term);
       std::thread worker([&] {
         result = link.print(
-            lines,
-            [&](const marlin::SessionEvent& e) {
+            program,
+            [&](const protocol::LinkEvent& e) {
               std::lock_guard lock(progress.mutex);
-              using K = marlin::SessionEvent::Kind;
-              if (e.kind == K::acknowledged) progress.done = static_cast<std::size_t>(e.line);
+              using K = protocol::LinkEvent::Kind;
+              if (e.kind == K::progress) progress.done = e.done;
               if (e.kind == K::resend) ++progress.resends;
               if (e.kind == K::error) progress.last_error = e.text;
               if (e.kind == K::temperatures) {
-                if (e.temperatures.hotend)
-                  progress.hotend = e.temperatures.hotend,
-                  progress.hotend_target = e.temperatures.hotend_target;
-                if (e.temperatures.bed)
-                  progress.bed = e.temperatures.bed, progress.bed_target = e.temperatures.bed_target;
+                if (e.hotend) progress.hotend = e.hotend, progress.hotend_target = e.hotend_target;
+                if (e.bed) progress.bed = e.bed, progress.bed_target = e.bed_target;
               }
             },
-            o->resume_from, prelude);
+            o->resume_from);
         over = true;
       });
       int handled = 0;
@@ -198,16 +170,16 @@ void add_print_command(CLI::App& app, CommandAction& action) {
         }
         if (!tty) continue;
         std::lock_guard lock(progress.mutex);
-        const std::size_t total = layer_of.size();
+        const std::size_t total = commands.size();
         const std::size_t done = std::min(progress.done, total);
-        const std::size_t layer = done < total ? layer_of[done] : (layers ? layers - 1 : 0);
+        const std::size_t layer = done < total ? commands[done].layer : (layers ? layers - 1 : 0);
         double left = 0;
         for (std::size_t l = layer + 1; l < estimate.layer_seconds.size(); ++l)
           left += estimate.layer_seconds[l];
         if (layer < estimate.layer_seconds.size()) {
           std::size_t first = done, last = done;
-          while (first > 0 && layer_of[first - 1] == layer) --first;
-          while (last < total && layer_of[last] == layer) ++last;
+          while (first > 0 && commands[first - 1].layer == layer) --first;
+          while (last < total && commands[last].layer == layer) ++last;
           const double share = last > first ? double(last - done) / double(last - first) : 0;
           left += estimate.layer_seconds[layer] * share;
         }
@@ -225,10 +197,11 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       ::sigaction(SIGTERM, &old_term, nullptr);
       if (tty) std::fprintf(stderr, "\n");
 
-      const char* state = result.disconnected                               ? "disconnected"
-                          : result.state == marlin::SessionState::finished  ? "finished"
-                          : result.state == marlin::SessionState::cancelled ? "cancelled"
-                                                                            : "failed";
+      using protocol::PrintEnd;
+      const char* state = result.disconnected                 ? "disconnected"
+                          : result.end == PrintEnd::finished  ? "finished"
+                          : result.end == PrintEnd::cancelled ? "cancelled"
+                                                              : "failed";
       if (o->json) {
         const nlohmann::json j = {{"file", name},
                                   {"state", state},
@@ -240,7 +213,7 @@ void add_print_command(CLI::App& app, CommandAction& action) {
                                   {"seconds", result.seconds},
                                   {"firmware", fw.name}};
         std::printf("%s\n", j.dump(2).c_str());
-      } else if (result.state == marlin::SessionState::finished) {
+      } else if (result.end == PrintEnd::finished) {
         std::printf("%s: printed %zu commands in %.1f s (%.0f lines/s), %zu lines resent\n", name.c_str(),
                     result.total, result.seconds,
                     double(result.total - o->resume_from) / std::max(result.seconds, 1e-9),
@@ -248,13 +221,13 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       } else {
         std::printf("%s: %s after %zu of %zu commands were confirmed: %s\n", name.c_str(), state,
                     result.confirmed, result.total, result.reason.c_str());
-        if (result.disconnected || result.state == marlin::SessionState::failed)
+        if (result.disconnected || result.end == PrintEnd::failed)
           std::printf("to resume: salient print %s %s %s --resume-from %zu\n", o->file.c_str(),
                       o->tcp.empty() ? "--port" : "--tcp", (o->tcp.empty() ? o->port : o->tcp).c_str(),
                       result.confirmed);
       }
-      if (result.state == marlin::SessionState::finished) return 0;
-      if (result.state == marlin::SessionState::cancelled) return 130;
+      if (result.end == PrintEnd::finished) return 0;
+      if (result.end == PrintEnd::cancelled) return 130;
       return result.disconnected ? 4 : 1;
     };
   });

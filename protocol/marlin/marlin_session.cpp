@@ -54,29 +54,32 @@ bool is_slow(std::string_view command) {
 MarlinSession::MarlinSession(SessionConfig config)
     : config_(config), expect_ok_after_resend_(config.ok_after_resend != SessionConfig::OkAfterResend::no) {}
 
-void MarlinSession::begin(const std::vector<std::string>& gcode, Millis now, std::size_t resume_from,
+void MarlinSession::begin(const std::vector<std::string>& commands, Millis now, std::size_t resume_from,
+                          const std::vector<std::string>& prelude) {
+  begin(std::make_shared<const Program>(Program::from_lines(commands)), now, resume_from, prelude);
+}
+
+void MarlinSession::begin(std::shared_ptr<const Program> program, Millis now, std::size_t resume_from,
                           const std::vector<std::string>& prelude) {
   queue_.clear();
   sent_.clear();
   in_flight_.clear();
   bytes_in_flight_ = 0;
   next_line_ = 0;
-  done_ = total_ = 0;
+  program_ = program ? std::move(program) : std::make_shared<const Program>();
   queue_.emplace_back("M110 N0", false);  // the firmware now expects line 1 next
   for (const std::string& line : prelude) {
     std::string command = strip_comment(line);
     if (!command.empty()) queue_.emplace_back(std::move(command), false);
   }
   std::string refused;
-  for (std::size_t i = 0; i < gcode.size(); ++i) {
-    std::string command = strip_comment(gcode[i]);
-    if (command.empty()) continue;
-    if (std::string why = unsendable(command); !why.empty() && refused.empty())
-      refused = "line " + std::to_string(i + 1) + " cannot be sent: " + why;
-    if (total_++ < resume_from) continue;
-    queue_.emplace_back(std::move(command), true);
-  }
-  done_ = std::min(resume_from, total_);
+  for (const Program::Command& c : program_->commands())
+    if (std::string why = unsendable(c.text); !why.empty()) {
+      refused = "line " + std::to_string(c.line) + " cannot be sent: " + why;
+      break;
+    }
+  total_ = program_->size();
+  done_ = next_command_ = std::min(resume_from, total_);
   state_ = SessionState::printing;
   last_heard_ = now;
   if (!refused.empty()) return fail(refused);  // checked before anything goes: it would stall mid-print
@@ -95,7 +98,7 @@ void MarlinSession::resume(Millis now) {
 
 void MarlinSession::cancel(const std::vector<std::string>& cleanup, Millis now) {
   if (state_ != SessionState::printing && state_ != SessionState::paused) return;
-  queue_.clear();
+  drop_queue();
   for (const std::string& line : cleanup) {
     std::string command = strip_comment(line);
     if (!command.empty()) queue_.emplace_back(std::move(command), false);
@@ -129,7 +132,7 @@ void MarlinSession::break_heating_wait(Millis now) {
 
 void MarlinSession::emergency_stop() {
   output_ += "M112\n";
-  queue_.clear();
+  drop_queue();
   state_ = SessionState::failed;
   events_.push_back({SessionEvent::Kind::failed, 0, "emergency stop", {}});
 }
@@ -214,22 +217,35 @@ void MarlinSession::pump(Millis now) {
   // In ping-pong a Resend's own ok must come in before the resent line goes, or it would be
   // taken for that line's ok.
   const bool held = synchronising_ || (!advanced_ok_ && resend_oks_due_ > 0);
-  while (sending && !queue_.empty() && !held) {
+  while (sending && !held) {
+    // Host lines (M110, the prelude, resends, a cancel's cleanup) go before the program's next.
+    const bool from_queue = !queue_.empty();
+    if (!from_queue && next_command_ >= program_->size()) break;
+    const std::string& command = from_queue ? queue_.front().first : (*program_)[next_command_].text;
     const std::size_t limit = advanced_ok_ ? static_cast<std::size_t>(std::max(1, free_slots_)) : 1;
     if (in_flight_.size() >= limit) break;
-    const std::size_t bytes = frame(static_cast<std::uint64_t>(next_line_), queue_.front().first).size() + 1;
+    const std::size_t bytes = frame(static_cast<std::uint64_t>(next_line_), command).size() + 1;
     if (!in_flight_.empty() && bytes_in_flight_ + bytes > config_.rx_buffer_bytes) break;
-    auto [command, counts] = queue_.front();
-    queue_.pop_front();
-    send_numbered(command, counts, now);
+    if (from_queue) {
+      auto [text, counts] = std::move(queue_.front());
+      queue_.pop_front();
+      send_numbered(text, counts, now);
+    } else {
+      send_numbered((*program_)[next_command_++].text, true, now);
+    }
   }
   if (in_flight_.empty()) {
     reply_deadline_ = Millis::max();
-    if (queue_.empty() && state_ == SessionState::printing && done_ == total_) {  // an empty file too
+    if (nothing_to_send() && state_ == SessionState::printing && done_ == total_) {  // an empty file too
       state_ = SessionState::finished;
       events_.push_back({SessionEvent::Kind::finished, static_cast<long long>(done_), {}, {}});
     }
   }
+}
+
+void MarlinSession::drop_queue() {
+  queue_.clear();
+  next_command_ = program_->size();
 }
 
 void MarlinSession::acknowledge(Millis now, bool sample) {
@@ -255,7 +271,7 @@ void MarlinSession::acknowledge(Millis now, bool sample) {
 void MarlinSession::fail(const std::string& why) {
   if (state_ == SessionState::failed) return;  // the first reason is the one that matters
   state_ = SessionState::failed;
-  queue_.clear();
+  drop_queue();
   events_.push_back({SessionEvent::Kind::failed, 0, why, {}});
 }
 
@@ -334,8 +350,37 @@ void MarlinSession::handle_resend(long long line, Millis now) {
   resent_below_ = line + static_cast<long long>(again.size());
 }
 
+void MarlinSession::listen(const MarlinReply& r) {
+  using K = SessionEvent::Kind;
+  if (r.temperatures.hotend || r.temperatures.bed)
+    events_.push_back({K::temperatures, 0, {}, r.temperatures});
+  if (r.kind == ReplyKind::error) events_.push_back({K::error, 0, r.text, {}});
+  if (r.kind == ReplyKind::start) events_.push_back({K::reset, 0, "the printer restarted", {}});
+  if (r.kind == ReplyKind::firmware) events_.push_back({K::firmware, 0, r.name, {}});
+  if (r.kind == ReplyKind::capability && r.enabled) events_.push_back({K::capability, 0, r.name, {}});
+  if (r.kind == ReplyKind::ok) ++oks_heard_;
+}
+
+void MarlinSession::listen_tick(Millis now) {
+  if (!config_.autoreport_temperature && (!last_poll_ || now - *last_poll_ >= config_.idle_poll)) {
+    output_ += "M105\n";  // unnumbered: no line number to keep in step between prints
+    last_poll_ = now;
+  }
+  if (lost_ || now - last_heard_ <= config_.idle_silence_limit) return;
+  lost_ = true;
+  events_.push_back(
+      {SessionEvent::Kind::timeout,
+       0,
+       "the printer stopped answering (nothing heard for " +
+           std::to_string(
+               std::chrono::duration_cast<std::chrono::seconds>(config_.idle_silence_limit).count()) +
+           " s between prints)",
+       {}});
+}
+
 void MarlinSession::handle(const MarlinReply& r, Millis now) {
   using K = SessionEvent::Kind;
+  if (state_ == SessionState::idle) return listen(r);
   switch (r.kind) {
     case ReplyKind::ok:
       handle_ok(r, now);
@@ -393,6 +438,7 @@ void MarlinSession::on_receive(std::string_view bytes, Millis now) {
 }
 
 void MarlinSession::on_tick(Millis now) {
+  if (state_ == SessionState::idle) return listen_tick(now);
   if (state_ == SessionState::failed) return;
   if (resend_oks_due_ > 0 && now >= resend_ok_deadline_) {  // this firmware sends no ok after Resend
     resend_oks_due_ = 0;

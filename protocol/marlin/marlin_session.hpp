@@ -3,6 +3,12 @@
 // take_output() returns; nothing here touches a port or a clock.
 //
 // States: idle → printing ⇄ paused → finished | failed | cancelled.
+//
+// A session that has not begun a print listens: to the handshake's M115 (firmware and capability
+// events; oks_heard() counts the oks), and between prints to what the printer says unprompted
+// (temperature reports, the replies to our M105 polls, errors, a restart), which become
+// temperatures, error and reset events; on_tick sends the polls and, after idle_silence_limit
+// without a byte, reports the printer lost (a timeout event, once).
 #pragma once
 
 #include <algorithm>
@@ -10,13 +16,18 @@
 #include <cstddef>
 #include <deque>
 #include <map>
+#include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "protocol/gcode/program.hpp"
 #include "protocol/marlin/marlin_reply.hpp"
 
 namespace salient::protocol::marlin {
+
+using protocol::Program;
 
 using Millis = std::chrono::milliseconds;  // time since any fixed epoch, from the driver
 
@@ -46,6 +57,12 @@ struct SessionConfig {
   // ok and stops after two requests went unanswered for resend_ok_wait without ever seeing one.
   enum class OkAfterResend { detect, yes, no } ok_after_resend = OkAfterResend::detect;
   Millis resend_ok_wait{500};
+  // Between prints: an unnumbered M105 every idle_poll unless the firmware reports temperatures
+  // itself (M115's Cap:AUTOREPORT_TEMP, turned on with M155); nothing heard for
+  // idle_silence_limit means the printer is gone.
+  bool autoreport_temperature = false;
+  Millis idle_poll{2000};
+  Millis idle_silence_limit{15000};
 };
 
 struct SessionEvent {
@@ -72,10 +89,13 @@ class MarlinSession {
  public:
   explicit MarlinSession(SessionConfig config = {});
 
-  // Starts a print of `gcode` (comments stripped, blank lines skipped), numbered after M110 N0.
-  // Resuming: the first `resume_from` commands count as done and are not sent; `prelude`
-  // (temperatures, modes, position: see resume_prelude) goes first.
-  void begin(const std::vector<std::string>& gcode, Millis now, std::size_t resume_from = 0,
+  // Starts a print of `program`, numbered after M110 N0; the commands are read from it as they
+  // go out (it is shared, not copied). Resuming: the first `resume_from` commands count as done
+  // and are not sent; `prelude` (temperatures, modes, position: see resume_prelude) goes first.
+  void begin(std::shared_ptr<const Program> program, Millis now, std::size_t resume_from = 0,
+             const std::vector<std::string>& prelude = {});
+  // The same for a few lines (console commands, tests): one command per line.
+  void begin(const std::vector<std::string>& commands, Millis now, std::size_t resume_from = 0,
              const std::vector<std::string>& prelude = {});
   void pause();
   void resume(Millis now);
@@ -88,12 +108,15 @@ class MarlinSession {
 
   void on_receive(std::string_view bytes, Millis now);
   void on_tick(Millis now);
+  // The driver heard the printer elsewhere (a print's own session): the silence counts from `now`.
+  void heard(Millis now) { last_heard_ = std::max(last_heard_, now); }
+  std::size_t oks_heard() const { return oks_heard_; }  // listening: the replies that ended
 
   std::string take_output();
   std::vector<SessionEvent> take_events();
   Millis deadline() const { return std::min({reply_deadline_, resend_ok_deadline_, next_m108_}); }
   SessionState state() const { return state_; }
-  bool idle() const { return queue_.empty() && in_flight_.empty(); }  // nothing left to send or confirm
+  bool idle() const { return nothing_to_send() && in_flight_.empty(); }  // nothing left to send or confirm
   std::size_t commands_done() const { return done_; }
   std::size_t commands_total() const { return total_; }
   bool advanced_ok() const { return advanced_ok_; }
@@ -112,7 +135,11 @@ class MarlinSession {
     bool resent;               // sent again: its reply time says nothing about the link (Karn)
     Millis sent_at;
   };
+  bool nothing_to_send() const { return queue_.empty() && next_command_ >= program_->size(); }
+  void drop_queue();  // nothing more of the program or the host's lines goes
   void handle(const MarlinReply& reply, Millis now);
+  void listen(const MarlinReply& reply);  // between prints
+  void listen_tick(Millis now);
   void handle_ok(const MarlinReply& reply, Millis now);
   void handle_resend(long long line, Millis now);
   void acknowledge(Millis now, bool sample = true);
@@ -126,7 +153,9 @@ class MarlinSession {
 
   SessionConfig config_;
   SessionState state_ = SessionState::idle;
-  std::deque<std::pair<std::string, bool>> queue_;          // (command, counts) not yet sent
+  std::shared_ptr<const Program> program_ = std::make_shared<const Program>();
+  std::size_t next_command_ = 0;                            // the program's next command to send
+  std::deque<std::pair<std::string, bool>> queue_;          // host lines (command, counts) not yet sent
   std::map<long long, std::pair<std::string, bool>> sent_;  // line → (command, counts), for resends
   std::deque<InFlight> in_flight_;
   long long next_line_ = 0;
@@ -150,7 +179,10 @@ class MarlinSession {
   Millis poke_wait_{0}, last_heard_{0};
   bool halted_ = false;
   Millis next_m108_{Millis::max()};  // a cancel during a heating wait: when M108 goes again
-  long long resent_below_ = -1;      // lines numbered below this, sent after a rewind, are resends
+  std::optional<Millis> last_poll_;  // between prints: when M105 last went
+  bool lost_ = false;                // between prints: the silence was reported
+  std::size_t oks_heard_ = 0;
+  long long resent_below_ = -1;  // lines numbered below this, sent after a rewind, are resends
   // What the machine is busy with: the least time of each command sent lately, as many as a
   // planner holds (Marlin's BLOCK_BUFFER_SIZE 16, plus its BUFSIZE 4).
   struct Motion {

@@ -1,5 +1,6 @@
 #include "protocol/marlin/resume_prelude.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <optional>
@@ -20,17 +21,13 @@ std::string num(double v) {
 
 }  // namespace
 
-std::vector<std::string> resume_prelude(const std::vector<std::string>& gcode, std::size_t resume_from) {
+std::vector<std::string> resume_prelude(const Program& program, std::size_t resume_from) {
   double hotend = 0, bed = 0, fan = 0, feed = 0;
   double pos[4] = {0, 0, 0, 0};
   bool relative = false, relative_e = false, inches = false;
   static constexpr char axes[4] = {'X', 'Y', 'Z', 'E'};
-  std::size_t seen = 0;
-  for (const std::string& line : gcode) {
-    if (seen >= resume_from) break;
-    const std::string c = strip_comment(line);
-    if (c.empty()) continue;
-    ++seen;
+  for (std::size_t i = 0; i < std::min(resume_from, program.size()); ++i) {
+    const std::string& c = program[i].text;
     const std::string_view code = std::string_view(c).substr(0, c.find(' '));
     if (code == "M104" || code == "M109")
       hotend = word_value(c, 'S').value_or(word_value(c, 'R').value_or(hotend));

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "protocol/marlin/marlin_reply.hpp"
+#include "protocol/marlin/resume_prelude.hpp"
 
 namespace salient::protocol::serial {
 namespace {
@@ -10,52 +10,89 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using marlin::Millis;
 
-// Sends an unnumbered command and collects the reply up to its ok; empty on timeout, or as soon
-// as `abort` is set (the daemon stops while a silent board is being asked).
-std::vector<marlin::MarlinReply> exchange(Transport& t, const std::string& command,
-                                          std::chrono::milliseconds timeout, const std::atomic<int>& abort,
-                                          int abort_value) {
-  t.write(command + "\n");
-  std::vector<marlin::MarlinReply> replies;
-  std::string partial;
-  const auto until = Clock::now() + timeout;
-  while (Clock::now() < until && abort.load() != abort_value) {
-    const auto left = std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(50));
-    partial += t.read(std::chrono::duration_cast<std::chrono::microseconds>(left));
-    for (std::size_t nl; (nl = partial.find('\n')) != std::string::npos;) {
-      replies.push_back(marlin::parse_reply(std::string_view(partial).substr(0, nl)));
-      partial.erase(0, nl + 1);
-      if (replies.back().kind == marlin::ReplyKind::ok) return replies;
-    }
+// The session's events a host needs, in the link's vocabulary (the rest — firmware, capability,
+// action, timeout, finished, failed — is the link's own business or in the PrintResult).
+std::optional<LinkEvent> to_link_event(const marlin::SessionEvent& e) {
+  using K = marlin::SessionEvent::Kind;
+  LinkEvent out{LinkEvent::Kind::progress};
+  switch (e.kind) {
+    case K::acknowledged:
+      out.done = static_cast<std::size_t>(e.line);
+      return out;
+    case K::temperatures:
+      out.kind = LinkEvent::Kind::temperatures;
+      out.hotend = e.temperatures.hotend, out.hotend_target = e.temperatures.hotend_target;
+      out.bed = e.temperatures.bed, out.bed_target = e.temperatures.bed_target;
+      return out;
+    case K::resend:
+      out.kind = LinkEvent::Kind::resend;
+      return out;
+    case K::error:
+      out.kind = LinkEvent::Kind::error, out.text = e.text;
+      return out;
+    case K::reset:
+      out.kind = LinkEvent::Kind::reset, out.text = e.text;
+      return out;
+    default:
+      return std::nullopt;
   }
-  return {};
+}
+
+PrintEnd end_of(marlin::SessionState s) {
+  if (s == marlin::SessionState::finished) return PrintEnd::finished;
+  if (s == marlin::SessionState::cancelled) return PrintEnd::cancelled;
+  return PrintEnd::failed;
 }
 
 }  // namespace
 
 MarlinLink::MarlinLink(std::unique_ptr<Transport> transport, LinkConfig config)
-    : transport_(std::move(transport)), config_(std::move(config)) {}
+    : transport_(std::move(transport)), config_(std::move(config)), start_(Clock::now()) {}
+
+marlin::Millis MarlinLink::since_start() const {
+  return std::chrono::duration_cast<Millis>(Clock::now() - start_);
+}
+
+// Sends an unnumbered command to a listening session's printer and passes on what it answers
+// until its ok; false on timeout, or as soon as an interrupt is asked for (the daemon stops
+// while a silent board is being asked).
+bool MarlinLink::exchange(marlin::MarlinSession& listener, const std::string& command,
+                          std::vector<marlin::SessionEvent>& heard) {
+  transport_->write(command + "\n");
+  const std::size_t oks = listener.oks_heard();
+  const auto until = Clock::now() + config_.handshake_timeout;
+  while (Clock::now() < until && request_.load() != kInterrupt) {
+    const auto left = std::min<Clock::duration>(until - Clock::now(), std::chrono::milliseconds(50));
+    listener.on_receive(transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(left)),
+                        since_start());
+    for (marlin::SessionEvent& e : listener.take_events()) heard.push_back(std::move(e));
+    if (listener.oks_heard() > oks) return true;
+  }
+  return false;
+}
 
 FirmwareInfo MarlinLink::handshake() {
+  using Kind = marlin::SessionEvent::Kind;
   transport_->discard_input();
   transport_->write("\n");  // ends whatever half line the firmware may hold
   for (int attempt = 0; attempt < config_.handshake_attempts; ++attempt) {
-    const auto replies = exchange(*transport_, "M115", config_.handshake_timeout, request_, kInterrupt);
+    marlin::MarlinSession listener(config_.session);  // a fresh one: nothing of a half answer
+    std::vector<marlin::SessionEvent> heard;
+    const bool answered = exchange(listener, "M115", heard);
     if (request_.load() == kInterrupt)
       throw LinkError(transport_->describe() + ": connecting was interrupted");
-    if (replies.empty()) continue;
-    for (const auto& r : replies) {
-      if (r.kind == marlin::ReplyKind::firmware) firmware_.name = r.name;
-      if (r.kind == marlin::ReplyKind::capability && r.name == "EMERGENCY_PARSER")
-        firmware_.emergency_parser = r.enabled;
-      if (r.kind == marlin::ReplyKind::capability && r.name == "AUTOREPORT_TEMP")
-        firmware_.autoreport_temperature = r.enabled;
+    if (!answered) continue;
+    for (const marlin::SessionEvent& e : heard) {
+      if (e.kind == Kind::firmware) firmware_.name = e.text;
+      if (e.kind == Kind::capability && e.text == "EMERGENCY_PARSER") firmware_.emergency_parser = true;
+      if (e.kind == Kind::capability && e.text == "AUTOREPORT_TEMP") firmware_.autoreport_temperature = true;
     }
     config_.session.emergency_parser = firmware_.emergency_parser;
     if (firmware_.autoreport_temperature && config_.autoreport_seconds > 0)
-      exchange(*transport_, "M155 S" + std::to_string(config_.autoreport_seconds), config_.handshake_timeout,
-               request_, kInterrupt);
-    idle_heard_ = Clock::now();
+      exchange(listener, "M155 S" + std::to_string(config_.autoreport_seconds), heard);
+    config_.session.autoreport_temperature = firmware_.autoreport_temperature;
+    idle_ = std::make_unique<marlin::MarlinSession>(config_.session);
+    idle_->heard(since_start());
     return firmware_;
   }
   throw LinkError(transport_->describe() + ": no answer to M115 after " +
@@ -63,60 +100,52 @@ FirmwareInfo MarlinLink::handshake() {
                   " tries: is it a Marlin printer, and is the baud rate right?");
 }
 
-void MarlinLink::idle(std::chrono::milliseconds duration,
-                      const std::function<void(const marlin::SessionEvent&)>& on_event,
-                      std::chrono::milliseconds poll) {
-  using Kind = marlin::SessionEvent::Kind;
+void MarlinLink::idle(std::chrono::milliseconds duration, const LinkEventFn& on_event) {
+  if (!idle_) idle_ = std::make_unique<marlin::MarlinSession>(config_.session);
+  marlin::MarlinSession& session = *idle_;
   const auto until = Clock::now() + duration;
-  if (!firmware_.autoreport_temperature && Clock::now() - last_poll_ >= poll) {
-    transport_->write("M105\n");
-    last_poll_ = Clock::now();
-  }
+  // What the printer says is the session's to interpret; here only bytes and time move.
+  const auto pass = [&] {
+    if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
+    for (const marlin::SessionEvent& e : session.take_events()) {
+      if (e.kind == marlin::SessionEvent::Kind::timeout)
+        throw LinkError(transport_->describe() + ": " + e.text);
+      if (!on_event) continue;
+      if (auto out = to_link_event(e)) on_event(*out);
+    }
+  };
+  session.on_tick(since_start());
+  pass();
   while (Clock::now() < until) {
     const std::string bytes =
         transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(until - Clock::now()));
-    if (!bytes.empty()) idle_heard_ = Clock::now();
-    idle_partial_ += bytes;
-    for (std::size_t nl; (nl = idle_partial_.find('\n')) != std::string::npos;) {
-      const marlin::MarlinReply r = marlin::parse_reply(std::string_view(idle_partial_).substr(0, nl));
-      idle_partial_.erase(0, nl + 1);
-      if (!on_event) continue;
-      if (r.temperatures.hotend || r.temperatures.bed) on_event({Kind::temperatures, 0, {}, r.temperatures});
-      if (r.kind == marlin::ReplyKind::error) {
-        on_event({Kind::error, 0, r.text, {}});
-        if (r.fatal) on_event({Kind::failed, 0, r.text, {}});
-      }
-      if (r.kind == marlin::ReplyKind::start) on_event({Kind::reset, 0, "the printer restarted", {}});
-    }
-    if (idle_partial_.size() > 4096) idle_partial_.clear();  // no newline in 4 KiB: noise
+    if (!bytes.empty()) session.on_receive(bytes, since_start());
+    pass();
   }
-  // Polled (or auto-reporting) every few seconds: this long without a byte, the board is gone.
-  if (Clock::now() - idle_heard_ > config_.idle_silence_limit)
-    throw LinkError(
-        transport_->describe() + ": the printer stopped answering (nothing heard for " +
-        std::to_string(std::chrono::duration_cast<std::chrono::seconds>(config_.idle_silence_limit).count()) +
-        " s between prints)");
+  session.on_tick(since_start());
+  pass();
 }
 
-PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
-                              const std::function<void(const marlin::SessionEvent&)>& on_event,
-                              std::size_t resume_from, const std::vector<std::string>& prelude) {
+PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const LinkEventFn& on_event,
+                              std::size_t resume_from) {
   using marlin::SessionState;
   const auto t0 = Clock::now();
   auto now = [&] { return std::chrono::duration_cast<Millis>(Clock::now() - t0); };
   marlin::MarlinSession session(config_.session);
   request_ = kNone;
-  session.begin(gcode, now(), resume_from, prelude);
+  const std::vector<std::string> prelude =
+      program && resume_from > 0 ? marlin::resume_prelude(*program, resume_from) : std::vector<std::string>{};
+  session.begin(std::move(program), now(), resume_from, prelude);
   PrintResult result;
   auto finish = [&] {
-    result.state = session.state();
+    result.end = end_of(session.state());
     result.confirmed = session.commands_done();
     result.total = session.commands_total();
     result.lines_resent = session.lines_resent();
     result.pokes = session.pokes_sent();
     result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     result.halted = session.halted();
-    idle_heard_ = Clock::now();  // the print's own replies count for the time between prints
+    if (idle_) idle_->heard(since_start());  // the print's own replies count for the time between prints
     return result;
   };
   // A daemon that stops gives the printer this long to take the heaters-off lines, then goes.
@@ -152,7 +181,8 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
       if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
       for (const marlin::SessionEvent& e : session.take_events()) {
         if (e.kind == marlin::SessionEvent::Kind::failed && result.reason.empty()) result.reason = e.text;
-        if (on_event) on_event(e);
+        if (!on_event) continue;
+        if (auto out = to_link_event(e)) on_event(*out);
       }
       const SessionState s = session.state();
       if (s == SessionState::finished || s == SessionState::failed ||
@@ -168,7 +198,7 @@ PrintResult MarlinLink::print(const std::vector<std::string>& gcode,
     result.disconnected = true;
     result.reason = e.what();
     finish();
-    result.state = SessionState::failed;
+    result.end = PrintEnd::failed;
     return result;
   }
 }

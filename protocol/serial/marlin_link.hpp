@@ -1,6 +1,6 @@
-// MarlinLink: drives a MarlinSession over a Transport on the calling thread: the handshake
-// (M115: firmware name and capabilities), then a print, until it is finished, failed, cancelled
-// or the link drops. pause/resume/cancel/emergency_stop may be called from any other thread.
+// MarlinLink: the PrinterLink of Marlin printers. It drives a MarlinSession over a Transport on
+// the calling thread: the handshake (M115: firmware name and capabilities), then a print, until
+// it is finished, failed, cancelled or the link drops; between prints, it listens.
 #pragma once
 
 #include <atomic>
@@ -10,10 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "protocol/gcode/program.hpp"
+#include "protocol/link/printer_link.hpp"
 #include "protocol/marlin/marlin_session.hpp"
 #include "protocol/serial/transport.hpp"
 
 namespace salient::protocol::serial {
+
+using protocol::PrinterLink;
 
 struct LinkConfig {
   marlin::SessionConfig session;
@@ -23,51 +27,34 @@ struct LinkConfig {
   // Sent after a cancel: heaters and fan off, lift, motors off.
   std::vector<std::string> cancel_gcode = {"M104 S0", "M140 S0", "M107", "G91", "G1 Z5 F600", "G90", "M84"};
   std::chrono::milliseconds interrupt_wait{2000};  // interrupt(): the longest wait for its heaters-off lines
-  std::chrono::milliseconds idle_silence_limit{15000};  // idle(): nothing heard this long is a lost printer
 };
 
-struct FirmwareInfo {
-  std::string name;
-  bool emergency_parser = false, autoreport_temperature = false;
-};
+using protocol::FirmwareInfo;
+using protocol::LinkEvent;
+using protocol::LinkEventFn;
+using protocol::PrintEnd;
+using protocol::PrintResult;
 
-struct PrintResult {
-  marlin::SessionState state = marlin::SessionState::idle;
-  bool disconnected = false;  // the link dropped: `confirmed` is where to resume from
-  std::size_t confirmed = 0, total = 0;
-  std::string reason;   // why it stopped, when it did not finish
-  bool halted = false;  // a cancel had to send M112: the firmware must be reset
-  std::size_t lines_resent = 0, pokes = 0;
-  double seconds = 0;
-};
-
-class MarlinLink {
+class MarlinLink : public PrinterLink {
  public:
   MarlinLink(std::unique_ptr<Transport> transport, LinkConfig config = {});
 
-  // Throws LinkError when the printer does not answer.
-  FirmwareInfo handshake();
-  // `on_event` sees every session event, on this thread.
-  PrintResult print(const std::vector<std::string>& gcode,
-                    const std::function<void(const marlin::SessionEvent&)>& on_event = {},
-                    std::size_t resume_from = 0, const std::vector<std::string>& prelude = {});
+  // M115 (and M155 S<n> with AUTOREPORT_TEMP). Throws LinkError when the printer does not answer.
+  FirmwareInfo handshake() override;
+  // The prelude of a resumed print is resume_prelude's. `on_event` sees the session's events
+  // that a host needs, on this thread.
+  PrintResult print(std::shared_ptr<const Program> program, const LinkEventFn& on_event = {},
+                    std::size_t resume_from = 0) override;
+  // A MarlinSession that begun no print listens (temperatures, errors, restarts, polls, silence).
+  void idle(std::chrono::milliseconds duration, const LinkEventFn& on_event) override;
+  // M112, unnumbered.
+  void halt_now() override { transport_->write("M112\n"); }
 
-  // Between prints: listens for up to `duration` (temperature reports, errors, a reboot), and
-  // polls with an unnumbered M105 every `poll` when the firmware does not auto-report. Events:
-  // temperatures, error (fatal ones end with "failed"), reset. Throws LinkError.
-  void idle(std::chrono::milliseconds duration,
-            const std::function<void(const marlin::SessionEvent&)>& on_event,
-            std::chrono::milliseconds poll = std::chrono::milliseconds(2000));
-  // Writes one unnumbered line now (M112 when no print is running). Throws LinkError.
-  void send_now(const std::string& line) { transport_->write(line + "\n"); }
-
-  void pause() { request_ = kPause; }
-  void resume() { request_ = kResume; }
-  void cancel() { request_ = kCancel; }
-  // Stops streaming and turns the heaters off, nothing else (no park, motors stay on): the print
-  // can be resumed later from where it stopped. During handshake(): it gives up at once.
-  void interrupt() { request_ = kInterrupt; }
-  void emergency_stop() { request_ = kEmergency; }
+  void pause() override { request_ = kPause; }
+  void resume() override { request_ = kResume; }
+  void cancel() override { request_ = kCancel; }
+  void interrupt() override { request_ = kInterrupt; }
+  void emergency_stop() override { request_ = kEmergency; }
 
   const FirmwareInfo& firmware() const { return firmware_; }
 
@@ -77,8 +64,11 @@ class MarlinLink {
   LinkConfig config_;
   FirmwareInfo firmware_;
   std::atomic<int> request_{kNone};
-  std::string idle_partial_;
-  std::chrono::steady_clock::time_point last_poll_{}, idle_heard_ = std::chrono::steady_clock::now();
+  marlin::Millis since_start() const;  // the listening sessions' clock
+  bool exchange(marlin::MarlinSession& listener, const std::string& command,
+                std::vector<marlin::SessionEvent>& heard);
+  std::chrono::steady_clock::time_point start_;
+  std::unique_ptr<marlin::MarlinSession> idle_;  // between prints: listens (made by the handshake)
 };
 
 }  // namespace salient::protocol::serial

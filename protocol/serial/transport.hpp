@@ -8,13 +8,11 @@
 #include <string>
 #include <string_view>
 
+#include "protocol/link/printer_link.hpp"
+
 namespace salient::protocol::serial {
 
-// The link is gone (cable pulled, bridge closed) or could not be opened.
-class LinkError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
+using protocol::LinkError;  // thrown when the link is gone or cannot be opened
 
 class Transport {
  public:

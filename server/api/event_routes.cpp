@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "server/api/api_json.hpp"
+#include "server/api/printer_json.hpp"
 #include "server/api/routes.hpp"
 #include "server/http/json_text.hpp"
 #include "server/store/job_store.hpp"
@@ -61,10 +62,12 @@ SnapshotFn event_snapshots(Store& store, PrinterService& printers) {
       if (auto j = JobStore(store.db()).get(topic.substr(4)))
         out.emplace_back("job", json_text(job_json(*j)));
     } else if (topic == "printers") {
-      for (const auto& p : printers.all()) out.emplace_back("printer", p->status_json());
+      for (const auto& p : printers.all())
+        out.emplace_back("printer", json_text(printer_status_json(p->status())));
     } else if (topic.rfind("printer/", 0) == 0) {
       for (const auto& p : printers.all())
-        if (p->id() == topic.substr(8)) out.emplace_back("printer", p->status_json());
+        if (p->id() == topic.substr(8))
+          out.emplace_back("printer", json_text(printer_status_json(p->status())));
     }
     return out;
   };
@@ -90,6 +93,25 @@ std::function<void(const Job&)> job_event_publisher(EventHub& hub) {
     hub.publish({"jobs", "job/" + j.id}, "job", json_text(job_json(j)),
                 progress ? Delivery::coalesce : Delivery::always);
   };
+}
+
+PrinterEvents printer_event_publisher(EventHub& hub) {
+  PrinterEvents e;
+  e.changed = [&hub](const Printer& printer, bool progress) {
+    hub.publish({"printers", "printer/" + printer.id()}, "printer",
+                json_text(printer_status_json(printer.status())),
+                progress ? Delivery::coalesce : Delivery::always);
+  };
+  e.terminal_wanted = [&hub](const Printer& printer) {
+    return hub.has_subscribers("terminal/" + printer.id());
+  };
+  e.terminal = [&hub](const Printer& printer, bool sent, std::string_view line) {
+    hub.publish(
+        {"terminal/" + printer.id()}, "terminal",
+        json_text(nlohmann::json{{"direction", sent ? "sent" : "received"}, {"line", std::string(line)}}),
+        Delivery::best_effort);
+  };
+  return e;
 }
 
 }  // namespace salient::server

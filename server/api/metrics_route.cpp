@@ -32,9 +32,7 @@ void add_metrics_route(Router& router, const Metrics& metrics, Store& store, Pri
                     "\",result=\"finished\"} " + std::to_string(c.prints_finished) + "\n";
           prints += "salient_prints_total{printer=\"" + prometheus_label(p->id()) + "\",result=\"failed\"} " +
                     std::to_string(c.prints_failed) + "\n";
-          const std::string state = p->state();
-          up += "salient_printer_connected" + label + " " +
-                (state == "disconnected" || state == "error" || state == "connecting" ? "0" : "1") + "\n";
+          up += "salient_printer_connected" + label + " " + (connected(p->state()) ? "1" : "0") + "\n";
         }
         out +=
             "# HELP salient_print_resends_total Lines sent again at the printer's request.\n# TYPE "

@@ -9,6 +9,7 @@
 #include "server/api/api_json.hpp"
 #include "server/api/routes.hpp"
 #include "server/http/multipart.hpp"
+#include "server/printers/print_file.hpp"
 #include "server/store/print_store.hpp"
 
 namespace salient::server {
@@ -56,21 +57,30 @@ json file_json(const StoredFile& f, const HttpRequest& r) {
             {"download", base + "/downloads/files/local/" + f.name}}}};
 }
 
-std::string state_text(const json& s) {
-  const std::string state = s.at("state").get<std::string>();
-  if (state == "operational") return "Operational";
-  if (state == "printing") return "Printing";
-  if (state == "paused") return "Paused";
-  if (state == "cancelling") return "Cancelling";
-  if (state == "connecting") return "Connecting";
-  if (state == "error") return "Error: " + s.value("error", std::string());
+std::string state_text(const PrinterStatus& s) {
+  switch (s.state) {
+    case PrinterState::operational:
+      return "Operational";
+    case PrinterState::printing:
+      return "Printing";
+    case PrinterState::paused:
+      return "Paused";
+    case PrinterState::cancelling:
+      return "Cancelling";
+    case PrinterState::connecting:
+      return "Connecting";
+    case PrinterState::error:
+      return "Error: " + s.error;
+    case PrinterState::disconnected:
+      break;
+  }
   return "Offline";
 }
 
-json state_json(const json& s) {
-  const std::string state = s.at("state").get<std::string>();
-  const bool printing = state == "printing", paused = state == "paused", cancelling = state == "cancelling";
-  const bool operational = printing || paused || cancelling || state == "operational";
+json state_json(const PrinterStatus& s) {
+  const bool printing = s.state == PrinterState::printing, paused = s.state == PrinterState::paused,
+             cancelling = s.state == PrinterState::cancelling;
+  const bool operational = busy_printing(s.state) || s.state == PrinterState::operational;
   return {{"text", state_text(s)},
           {"flags",
            {{"operational", operational},
@@ -81,16 +91,18 @@ json state_json(const json& s) {
             {"resuming", false},
             {"finishing", false},
             {"sdReady", false},
-            {"error", state == "error"},
-            {"ready", state == "operational"},
+            {"error", s.state == PrinterState::error},
+            {"ready", s.state == PrinterState::operational},
             {"closedOrError", !operational}}}};
 }
 
-json temperature_json(const json& t) {
-  const auto one = [](const json& v) {
-    return json{{"actual", v.at("actual")}, {"target", v.at("target")}, {"offset", 0}};
+json temperature_json(const PrinterStatus& s) {
+  const auto one = [](const Temperature& t) {
+    return json{{"actual", t.actual ? json(*t.actual) : json(nullptr)},
+                {"target", t.target ? json(*t.target) : json(nullptr)},
+                {"offset", 0}};
   };
-  return {{"tool0", one(t.at("hotend"))}, {"bed", one(t.at("bed"))}};
+  return {{"tool0", one(s.hotend)}, {"bed", one(s.bed)}};
 }
 
 }  // namespace
@@ -234,7 +246,7 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
 
   router.add(
       "GET", "/api/job", Access::key, [&printers, &store, octo](const HttpRequest&, const PathParams&) {
-        const json s = json::parse(default_printer(printers).status_json());
+        const PrinterStatus s = default_printer(printers).status();
         json file = {
             {"name", nullptr}, {"path", nullptr}, {"origin", nullptr}, {"size", nullptr}, {"date", nullptr}};
         json progress = {{"completion", nullptr},
@@ -242,13 +254,14 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                          {"printTime", nullptr},
                          {"printTimeLeft", nullptr}};
         std::string name;
-        if (s.at("print").is_object()) {
-          const json& p = s.at("print");
-          name = p.at("file").get<std::string>();
-          progress = {{"completion", p.at("progress").get<double>() * 100},
-                      {"filepos", p.at("confirmed")},
-                      {"printTime", p.at("elapsed")},
-                      {"printTimeLeft", p.at("eta")}};
+        if (s.print) {
+          const PrinterStatus::Running& p = *s.print;
+          const std::optional<double> eta = p.eta();
+          name = p.record.filename;
+          progress = {{"completion", p.fraction() * 100},
+                      {"filepos", p.record.confirmed},
+                      {"printTime", p.elapsed},
+                      {"printTimeLeft", eta ? json(*eta) : json(nullptr)}};
         } else {
           std::lock_guard lock(octo->mutex);
           name = octo->selected;
@@ -281,8 +294,7 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                  printer.cancel();
                } else if (command == "pause") {
                  const std::string action = string_field(body, "action", "toggle");
-                 const std::string state = printer.state();
-                 if (action == "pause" || (action == "toggle" && state == "printing"))
+                 if (action == "pause" || (action == "toggle" && printer.state() == PrinterState::printing))
                    printer.pause();
                  else if (action == "resume" || action == "toggle")
                    printer.resume();
@@ -294,13 +306,10 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                return HttpResponse::text(204, "");
              });
   router.add("GET", "/api/printer", Access::key, [&printers](const HttpRequest&, const PathParams&) {
-    const json s = json::parse(default_printer(printers).status_json());
-    const std::string state = s.at("state").get<std::string>();
-    if (state == "disconnected" || state == "connecting" || state == "error")
-      throw ApiError(409, "not_operational", "Printer is not operational");
-    return json_response(200, {{"temperature", temperature_json(s.at("temperatures"))},
-                               {"sd", {{"ready", false}}},
-                               {"state", state_json(s)}});
+    const PrinterStatus s = default_printer(printers).status();
+    if (!connected(s.state)) throw ApiError(409, "not_operational", "Printer is not operational");
+    return json_response(
+        200, {{"temperature", temperature_json(s)}, {"sd", {{"ready", false}}}, {"state", state_json(s)}});
   });
   router.add("POST", "/api/printer/command", Access::key,
              [&printers, max_json, depth](const HttpRequest& r, const PathParams&) {

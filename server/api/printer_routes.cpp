@@ -3,6 +3,7 @@
 
 #include "protocol/marlin/line_codec.hpp"
 #include "server/api/api_json.hpp"
+#include "server/api/printer_json.hpp"
 #include "server/api/routes.hpp"
 #include "server/store/print_store.hpp"
 
@@ -12,7 +13,7 @@ namespace {
 using nlohmann::json;
 
 HttpResponse status(int code, const Printer& p) {
-  return HttpResponse::text(code, p.status_json(), "application/json");
+  return json_response(code, printer_status_json(p.status()));
 }
 
 }  // namespace
@@ -43,13 +44,9 @@ std::vector<std::string> parse_commands(const json& body) {
 
 void add_printer_routes(Router& router, PrinterService& printers, Store& store, const DaemonConfig& config) {
   router.add("GET", "/api/v1/printers", Access::key, [&printers](const HttpRequest&, const PathParams&) {
-    std::string body = "{\"printers\":[";
-    for (const auto& p : printers.all()) {
-      if (body.back() != '[') body += ',';
-      body += p->status_json();
-    }
-    body += "]}";
-    return HttpResponse::text(200, std::move(body), "application/json");
+    json list = json::array();
+    for (const auto& p : printers.all()) list.push_back(printer_status_json(p->status()));
+    return json_response(200, {{"printers", list}});
   });
   router.add(
       "GET", "/api/v1/printers/{id}", Access::key,
@@ -62,7 +59,7 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
                  list.push_back({{"id", r.id},
                                  {"job", r.job_id ? json(*r.job_id) : json(nullptr)},
                                  {"file", r.filename},
-                                 {"state", r.state},
+                                 {"state", to_string(r.state)},
                                  {"confirmed", r.confirmed},
                                  {"total", r.total},
                                  {"reason", r.reason ? json(*r.reason) : json(nullptr)},

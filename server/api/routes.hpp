@@ -34,5 +34,8 @@ WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys);
 SnapshotFn event_snapshots(Store& store, PrinterService& printers);
 // Job changes as "job" events; a change of state or phase is never dropped, progress coalesces.
 std::function<void(const Job&)> job_event_publisher(EventHub& hub);
+// Printer changes as "printer" events (state always delivered, progress coalesces) and the
+// terminal's lines as "terminal" events (best effort, split only while someone watches).
+PrinterEvents printer_event_publisher(EventHub& hub);
 
 }  // namespace salient::server

@@ -53,10 +53,11 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
       PrinterConfig p;
       TableReader r(*n.as_table(), "printers.", source);
       r.text("id", p.id);
-      r.text("kind", p.kind);
+      std::string kind(to_string(p.kind)), protocol(to_string(p.protocol));
+      r.text("kind", kind);
       r.text("port", p.port);
       r.integer("baud", p.baud, 300, 4000000);
-      r.text("protocol", p.protocol);
+      r.text("protocol", protocol);
       r.text("profile", p.profile);
       r.text("sim_args", p.sim_args);
       r.boolean("autoconnect", p.autoconnect);
@@ -67,18 +68,22 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
         throw InputError(source, at,
                          "'printers.id' must be lower-case letters, digits, '-' or '_', got '" + p.id + "'");
       if (!ids.insert(p.id).second) throw InputError(source, at, "printer id '" + p.id + "' appears twice");
-      if (p.kind != "sim" && p.kind != "serial" && p.kind != "tcp")
-        throw InputError(source, at, "'printers.kind' must be sim, serial or tcp, got '" + p.kind + "'");
-      if (p.kind != "sim" && p.port.empty())
+      if (const auto k = printer_kind_from(kind))
+        p.kind = *k;
+      else
+        throw InputError(source, at, "'printers.kind' must be sim, serial or tcp, got '" + kind + "'");
+      if (p.kind != PrinterKind::sim && p.port.empty())
         throw InputError(source, at, "printer '" + p.id + "' needs a 'port'");
-      if (p.kind == "sim") {
+      if (p.kind == PrinterKind::sim) {
         try {
           split_args(p.sim_args);  // checked now rather than at the first connect
         } catch (const std::invalid_argument& e) {
           throw InputError(source, at, "'printers.sim_args': " + std::string(e.what()));
         }
       }
-      if (p.protocol != "marlin")
+      if (const auto pr = printer_protocol_from(protocol))
+        p.protocol = *pr;
+      else
         throw InputError(source, at, "'printers.protocol' must be marlin (s3g comes later)");
       c.printers.push_back(std::move(p));
     }

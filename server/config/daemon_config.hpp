@@ -7,14 +7,16 @@
 #include <string_view>
 #include <vector>
 
+#include "server/config/printer_kind.hpp"
+
 namespace salient::server {
 
 struct PrinterConfig {
   std::string id;
-  std::string kind = "sim";  // sim (salient-sim on a pseudo-terminal), serial, tcp
-  std::string port;          // serial: device path; tcp: HOST:PORT
+  PrinterKind kind = PrinterKind::sim;
+  std::string port;  // serial: device path; tcp: HOST:PORT
   unsigned baud = 250000;
-  std::string protocol = "marlin";
+  PrinterProtocol protocol = PrinterProtocol::marlin;
   std::string profile = "generic-i3";  // printer profile for slicing (built-in id or .toml path)
   // salient-sim's arguments, for kind = sim: Marlin 2 features on, 20× faster than real time.
   std::string sim_args = "--advanced-ok --emergency-parser --autoreport --time-scale 0.05";

@@ -12,8 +12,8 @@
 #include "core/mesh/mesh_reader.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
 #include "core/printer/printer_profile.hpp"
+#include "server/common/domain_error.hpp"
 #include "server/http/json_text.hpp"
-#include "server/http/router.hpp"
 #include "server/jobs/job_progress.hpp"
 #include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"
@@ -53,7 +53,7 @@ core::PrinterProfile printer_for(const std::string& id) {
   if (auto p = core::builtin_printer(id)) return *p;
   std::string known;
   for (const std::string& k : core::builtin_printer_ids()) known += (known.empty() ? "" : ", ") + k;
-  throw ApiError(400, "bad_settings", "settings: unknown printer '" + id + "' (built in: " + known + ")");
+  throw BadRequest("bad_settings", "settings: unknown printer '" + id + "' (built in: " + known + ")");
 }
 
 }  // namespace
@@ -112,11 +112,11 @@ JobService::Submitted JobService::submit(const std::string& filename, const std:
   printer_for(settings.printer);
   const std::string name = sanitize_filename(filename);
   if (!core::detect_format(bytes, name))
-    throw ApiError(415, "unsupported_format", name + ": not an STL, OBJ, PLY or OFF model");
+    throw Unsupported("unsupported_format", name + ": not an STL, OBJ, PLY or OFF model");
   try {
     core::load_mesh(bytes, name);  // read and repaired: no usable triangle is 422 now, not a failed job later
   } catch (const core::InputError& e) {
-    throw ApiError(422, "unreadable_mesh", e.what());
+    throw Unprocessable("unreadable_mesh", e.what());
   }
   std::lock_guard files_lock(store_.files_mutex());  // the file and its row land together
   const std::string digest = store_.files().put(bytes);
@@ -124,9 +124,8 @@ JobService::Submitted JobService::submit(const std::string& filename, const std:
   JobStore jobs(store_.db());
   if (auto done = jobs.find_done(digest, settings_digest)) return {*done, true};
   if (jobs.count(JobState::queued) >= options_.queue_limit)
-    throw ApiError(429, "queue_full",
-                   "the job queue is full (" + std::to_string(options_.queue_limit) + " waiting)")
-        .with_header("Retry-After", "30");
+    throw TooBusy("queue_full",
+                  "the job queue is full (" + std::to_string(options_.queue_limit) + " waiting)", 30);
   Job job;
   {
     // Under the lock that workers take to start a job: "queued" is always told before "running".
@@ -234,7 +233,7 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     end = JobState::cancelled;
   } catch (const core::InputError& e) {
     end = JobState::failed, error = e.what();
-  } catch (const ApiError& e) {
+  } catch (const DomainError& e) {
     end = JobState::failed, error = e.what();
   } catch (const std::exception& e) {
     end = JobState::failed, error = std::string("internal error: ") + e.what();

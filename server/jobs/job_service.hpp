@@ -45,7 +45,8 @@ class JobService {
     Job job;
     bool reused = false;  // an earlier finished job with the same model bytes and settings
   };
-  // Throws ApiError: 400 bad settings, 415 not a mesh format, 422 unreadable mesh, 429 queue full.
+  // Throws a DomainError: BadRequest (bad settings), Unsupported (not a mesh format), Unprocessable
+  // (unreadable mesh), TooBusy (queue full).
   Submitted submit(const std::string& filename, const std::string& bytes, const std::string& settings_json);
   // Queued: cancelled at once; running: asked to stop. False when it had already finished.
   bool cancel(const std::string& id);

@@ -1,11 +1,23 @@
-// Printer: one attached printer and the thread that owns its link. The thread connects (starting
-// salient-sim first for kind "sim"), listens between prints, runs prints and console commands,
-// and writes each print's progress (the last acknowledged command) to the database as it goes.
-// Requests from HTTP threads are checked against the state (409 when they make no sense now) and
-// handed over; pause, resume, cancel and emergency stop reach a running print at once.
+// Printer: one attached printer and the thread that owns its link (a protocol::PrinterLink: nothing
+// here knows the protocol). The thread connects (open_printer_connection), listens between prints,
+// runs prints and console commands, and writes each print's progress (the last acknowledged
+// command) to the database as it goes. Requests from other threads are checked against the state
+// (Conflict when they make no sense now) and queued for the thread (CommandQueue); pause, resume,
+// cancel and emergency stop reach a running print at once.
 //
-// States: disconnected → connecting → operational ⇄ printing ⇄ paused; error after a failure
-// (link lost, firmware halted, emergency stop) until the next connect.
+// States (PrinterState): disconnected → connecting → operational ⇄ printing ⇄ paused; printing or
+// paused → cancelling → operational; error after a failure (link lost, firmware halted,
+// emergency stop, a connect that failed) until the next connect.
+//
+// Threading. The printer's own thread (run(), printer_thread.cpp) alone creates, drives and
+// destroys the link, and alone does blocking I/O: handshake, print, console commands, idle.
+// Every other call (HTTP threads, the daemon's shutdown) takes mutex_, reads or changes the
+// status and the queue, and wakes the thread; none waits on the printer. Those that reach a
+// running link — pause, resume, cancel, emergency_stop, stop — call only the link's request
+// methods, which set an atomic the link's loop reads on its next turn (at most 50 ms later);
+// link_ (and connecting_, during a handshake) is read under mutex_, and the thread moves the link
+// out under mutex_ before it destroys it, so no other thread ever holds a link that is going.
+// The hooks are called without mutex_ held, from either kind of thread.
 #pragma once
 
 #include <chrono>
@@ -19,29 +31,20 @@
 #include <vector>
 
 #include "server/config/daemon_config.hpp"
+#include "server/printers/command_queue.hpp"
+#include "server/printers/printer_status.hpp"
 #include "server/store/print_store.hpp"
 #include "server/store/store.hpp"
 
-namespace salient::protocol::serial {
-class MarlinLink;
-}
-namespace salient::protocol::marlin {
-struct SessionEvent;
-}
+namespace salient::protocol {
+class PrinterLink;
+struct LinkEvent;
+struct PrintResult;
+}  // namespace salient::protocol
 
 namespace salient::server {
 
 class SimProcess;
-
-// The number of commands in `gcode`; ApiError 422 when it has none, or a line that cannot be
-// sent (too long, binary, not ASCII), named with its line number.
-long long check_printable(const std::string& name, const std::string& gcode);
-
-struct PrintRequest {
-  std::optional<std::string> job_id;
-  std::string file_digest, filename;
-  std::size_t resume_from = 0;  // commands already done (a resumed print)
-};
 
 struct PrinterCounters {
   long long lines_sent = 0, lines_resent = 0, prints_finished = 0, prints_failed = 0;
@@ -51,7 +54,7 @@ class Printer {
  public:
   struct Hooks {
     std::function<void(const Printer&, bool progress)> changed;  // state (false) or progress (true)
-    std::function<bool()> terminal_wanted;                       // someone watches terminal/{id}
+    std::function<bool(const Printer&)> terminal_wanted;         // someone watches terminal/{id}
     std::function<void(const Printer&, bool sent, std::string_view)> terminal;  // one line, either way
   };
 
@@ -65,7 +68,9 @@ class Printer {
   // "interrupted" with its last acknowledged command, ready to resume.
   void stop();
 
-  // Each throws ApiError 409 when the printer's state does not allow it.
+  // Each throws Conflict (409) when the printer's state does not allow it; print throws
+  // Unprocessable (422) for a file that cannot be printed, command TooBusy (429) when 16 batches
+  // wait already.
   void connect();
   void disconnect();
   long long print(const PrintRequest& request);  // the new print's id
@@ -77,8 +82,8 @@ class Printer {
 
   const std::string& id() const { return config_.id; }
   const PrinterConfig& config() const { return config_; }
-  std::string state() const;
-  std::string status_json() const;  // the whole status: state, temperatures, current/last print
+  PrinterState state() const;
+  PrinterStatus status() const;  // the whole status: state, temperatures, current/last print
   PrinterCounters counters() const;
 
  private:
@@ -86,15 +91,21 @@ class Printer {
     std::chrono::steady_clock::time_point last_notify{}, last_save = std::chrono::steady_clock::now();
     std::chrono::steady_clock::time_point saves_paused_until{};  // after a full disk
   };
-  void run();
+  using EventFn = std::function<void(const protocol::LinkEvent&)>;
+  // printer.cpp: what other threads call.
   long long start_print(const PrintRequest& request);
-  void open_link();
-  void close_link(const std::string& state, const std::string& error);
-  void handle_event(const protocol::marlin::SessionEvent& e, Throttle& throttle);
-  void run_print(const PrintRequest& request, long long print_id,
-                 const std::function<void(const protocol::marlin::SessionEvent&)>& on_event);
-  void set_state(const std::string& state, const std::string& error = {});
+  void refuse_unless_ready() const;  // under mutex_
+  [[noreturn]] void conflict(const std::string& message) const;
   void notify(bool progress) const;
+  // printer_thread.cpp: the printer's own thread.
+  void run();
+  void run_console(const std::vector<std::string>& lines, const EventFn& on_event);
+  void open_link();
+  void close_link(PrinterState state, const std::string& error);
+  void handle_event(const protocol::LinkEvent& e, Throttle& throttle);
+  void run_print(const PrintCommand& print, const EventFn& on_event);
+  PrintState print_outcome(const protocol::PrintResult& result, bool interrupted, bool cancelled) const;
+  void set_state(PrinterState state, const std::string& error = {});
 
   PrinterConfig config_;
   Store& store_;
@@ -103,20 +114,19 @@ class Printer {
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::thread thread_;
-  bool stopping_ = false, connect_wanted_ = false, disconnect_wanted_ = false, estop_wanted_ = false;
+  bool stopping_ = false;
+  CommandQueue queue_;
   bool cancel_requested_ = false;  // the running print was cancelled (not failed) by a request
   bool commands_running_ = false;  // console commands are being streamed
-  std::optional<PrintRequest> print_wanted_;
-  long long print_wanted_id_ = 0;
-  std::vector<std::vector<std::string>> commands_wanted_;
 
   std::unique_ptr<SimProcess> sim_;
-  std::unique_ptr<protocol::serial::MarlinLink> link_;  // owned by the thread; pointer read under mutex_
-  protocol::serial::MarlinLink* connecting_ = nullptr;  // during the handshake, under mutex_
+  std::unique_ptr<protocol::PrinterLink> link_;  // owned by the thread; pointer read under mutex_
+  protocol::PrinterLink* connecting_ = nullptr;  // during the handshake, under mutex_
 
   // The status, under mutex_.
-  std::string state_ = "disconnected", error_, firmware_, device_;
-  std::optional<double> hotend_, hotend_target_, bed_, bed_target_;
+  PrinterState state_ = PrinterState::disconnected;
+  std::string error_, firmware_, device_;
+  Temperature hotend_, bed_;
   struct Current {
     PrintRecord record;
     std::chrono::steady_clock::time_point started;

@@ -3,34 +3,20 @@
 #include <chrono>
 #include <nlohmann/json.hpp>
 
-#include "server/http/json_text.hpp"
-#include "server/http/router.hpp"
+#include "server/common/domain_error.hpp"
 #include "server/store/job_store.hpp"
 #include "server/store/print_store.hpp"
 
 namespace salient::server {
 
-PrinterService::PrinterService(const DaemonConfig& config, Store& store, EventHub& hub)
-    : store_(store), hub_(hub) {
+PrinterService::PrinterService(const DaemonConfig& config, Store& store, PrinterEvents events)
+    : store_(store) {
   // Prints a previous run left unfinished: interrupted, before any printer reads its last print.
   const double now =
       std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   PrintStore(store_.db()).mark_interrupted(now);
   for (const PrinterConfig& p : config.printers) {
-    Printer::Hooks hooks;
-    hooks.changed = [&hub](const Printer& printer, bool progress) {
-      hub.publish({"printers", "printer/" + printer.id()}, "printer", printer.status_json(),
-                  progress ? Delivery::coalesce : Delivery::always);
-    };
-    const std::string terminal = "terminal/" + p.id;
-    hooks.terminal_wanted = [&hub, terminal] { return hub.has_subscribers(terminal); };
-    hooks.terminal = [&hub, terminal](const Printer&, bool sent, std::string_view line) {
-      hub.publish(
-          {terminal}, "terminal",
-          json_text(nlohmann::json{{"direction", sent ? "sent" : "received"}, {"line", std::string(line)}}),
-          Delivery::best_effort);
-    };
-    printers_.push_back(std::make_unique<Printer>(p, store_, std::move(hooks)));
+    printers_.push_back(std::make_unique<Printer>(p, store_, events));
   }
 }
 
@@ -49,14 +35,14 @@ void PrinterService::stop() {
 Printer& PrinterService::get(const std::string& id) {
   for (auto& p : printers_)
     if (p->id() == id) return *p;
-  throw ApiError(404, "not_found", "no printer '" + id + "'");
+  throw NotFound("no printer '" + id + "'");
 }
 
 long long PrinterService::print_job(Printer& printer, const std::string& job_id) {
   const auto job = JobStore(store_.db()).get(job_id);
-  if (!job) throw ApiError(404, "not_found", "no job " + job_id);
+  if (!job) throw NotFound("no job " + job_id);
   if (job->state != JobState::done || !job->result)
-    throw ApiError(409, "not_ready",
+    throw Conflict("not_ready",
                    "job " + job_id + " is " + std::string(to_string(job->state)) + ": nothing to print");
   const nlohmann::json result = nlohmann::json::parse(*job->result);
   const std::string stem = job->filename.substr(0, job->filename.find_last_of('.'));
@@ -65,17 +51,17 @@ long long PrinterService::print_job(Printer& printer, const std::string& job_id)
 
 long long PrinterService::print_file(Printer& printer, const std::string& name) {
   const auto file = PrintStore(store_.db()).file(name);
-  if (!file) throw ApiError(404, "not_found", "no file '" + name + "' (upload it to /api/files/local)");
+  if (!file) throw NotFound("no file '" + name + "' (upload it to /api/files/local)");
   return printer.print({std::nullopt, file->digest, file->name, 0});
 }
 
 long long PrinterService::resume(Printer& printer, long long print_id) {
   const auto p = PrintStore(store_.db()).get(print_id);
   if (!p || p->printer_id != printer.id())
-    throw ApiError(404, "not_found", "no print " + std::to_string(print_id) + " on " + printer.id());
-  if (p->state == "finished" || p->state == "printing" || p->state == "paused" || p->confirmed >= p->total)
-    throw ApiError(409, "not_resumable",
-                   "print " + std::to_string(print_id) + " is " + p->state + ": nothing to resume");
+    throw NotFound("no print " + std::to_string(print_id) + " on " + printer.id());
+  if (p->state == PrintState::finished || running(p->state) || p->confirmed >= p->total)
+    throw Conflict("not_resumable", "print " + std::to_string(print_id) + " is " +
+                                        std::string(to_string(p->state)) + ": nothing to resume");
   return printer.print({p->job_id, p->file_digest, p->filename, static_cast<std::size_t>(p->confirmed)});
 }
 

@@ -13,7 +13,7 @@ PrintRecord read_print(const Database::Statement& q) {
   if (!q.null(2)) p.job_id = q.text(2);
   p.file_digest = q.text(3);
   p.filename = q.text(4);
-  p.state = q.text(5);
+  p.state = print_state_from(q.text(5)).value_or(PrintState::failed);
   p.confirmed = q.integer(6);
   p.total = q.integer(7);
   if (!q.null(8)) p.reason = q.text(8);
@@ -45,18 +45,18 @@ PrintRecord PrintStore::create(const std::string& printer_id, const std::optiona
   return *get(db_.last_insert_id());
 }
 
-void PrintStore::set_progress(long long id, const std::string& state, long long confirmed) {
+void PrintStore::set_progress(long long id, PrintState state, long long confirmed) {
   db_.prepare("UPDATE prints SET state = ?, confirmed = ? WHERE id = ? AND finished_at IS NULL")
-      .bind(1, std::string_view(state))
+      .bind(1, to_string(state))
       .bind(2, static_cast<std::int64_t>(confirmed))
       .bind(3, static_cast<std::int64_t>(id))
       .run();
 }
 
-void PrintStore::finish(long long id, const std::string& state, long long confirmed,
+void PrintStore::finish(long long id, PrintState state, long long confirmed,
                         const std::optional<std::string>& reason, double now) {
   db_.prepare("UPDATE prints SET state = ?, confirmed = ?, reason = ?, finished_at = ? WHERE id = ?")
-      .bind(1, std::string_view(state))
+      .bind(1, to_string(state))
       .bind(2, static_cast<std::int64_t>(confirmed))
       .bind(3, reason)
       .bind(4, now)

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "server/common/printer_state.hpp"
 #include "server/store/database.hpp"
 
 namespace salient::server {
@@ -16,7 +17,7 @@ struct PrintRecord {
   std::string printer_id;
   std::optional<std::string> job_id;
   std::string file_digest, filename;
-  std::string state;  // printing, paused, finished, failed, cancelled, interrupted
+  PrintState state = PrintState::printing;
   long long confirmed = 0, total = 0;
   std::optional<std::string> reason;
   double started_at = 0;
@@ -35,9 +36,9 @@ class PrintStore {
 
   PrintRecord create(const std::string& printer_id, const std::optional<std::string>& job_id,
                      const std::string& digest, const std::string& filename, long long total, double now);
-  void set_progress(long long id, const std::string& state, long long confirmed);
-  void finish(long long id, const std::string& state, long long confirmed,
-              const std::optional<std::string>& reason, double now);
+  void set_progress(long long id, PrintState state, long long confirmed);
+  void finish(long long id, PrintState state, long long confirmed, const std::optional<std::string>& reason,
+              double now);
   std::optional<PrintRecord> get(long long id);
   std::optional<PrintRecord> latest(const std::string& printer_id);
   std::vector<PrintRecord> list(const std::string& printer_id, int limit);

@@ -26,9 +26,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::set<std::string> ids;
   for (const PrinterConfig& p : c.printers) {
     if (p.id.empty() || !ids.insert(p.id).second) std::abort();
-    if (p.kind != "sim" && p.port.empty()) std::abort();
+    if (p.kind != PrinterKind::sim && p.port.empty()) std::abort();
     try {
-      split_args(p.sim_args);  // what Printer::open_link does with it, at connect time
+      split_args(p.sim_args);  // what open_printer_connection does with it, at connect time
     } catch (const std::invalid_argument&) {
     }
   }

@@ -1,5 +1,5 @@
 // Fuzz target for uploaded G-code (POST /api/files/local): check_printable and find_unsendable.
-// Only ApiError 422 may come out; when the file is accepted, every command must frame, fit the
+// Only Unprocessable (422) may come out; when the file is accepted, every command must frame, fit the
 // firmware's line buffer and parse back to itself, as the print will send it.
 #include <cstdint>
 #include <cstdlib>
@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "protocol/marlin/line_codec.hpp"
-#include "server/http/router.hpp"
-#include "server/printers/printer.hpp"
+#include "server/common/domain_error.hpp"
+#include "server/printers/print_file.hpp"
 
 using namespace salient::server;
 namespace marlin = salient::protocol::marlin;
@@ -28,8 +28,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   long long commands = 0;
   try {
     commands = check_printable("fuzz.gcode", gcode);
-  } catch (const ApiError& e) {
-    if (e.status() != 422) std::abort();
+  } catch (const DomainError& e) {
+    if (e.kind() != ErrorKind::unprocessable) std::abort();
     if (e.code() == "not_gcode" && !bad) std::abort();
     return 0;
   }

@@ -20,6 +20,7 @@
 #include "server/http/multipart.hpp"
 #include "server/jobs/job_service.hpp"
 #include "server/jobs/job_settings.hpp"
+#include "server/printers/print_file.hpp"
 #include "server/printers/printer.hpp"
 #include "server/store/sha256.hpp"
 

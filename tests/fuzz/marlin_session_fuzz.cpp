@@ -1,7 +1,9 @@
 // Fuzz target for the Marlin host session: arbitrary bytes from the "firmware", cut into reads,
 // with time passing. It must not crash, every line it sends must frame correctly, it must never
 // count more commands done than it was given, and it must never send a line number again unless
-// a Resend request for that line or an earlier one came in since.
+// a Resend request for that line or an earlier one came in since. A second session that began no
+// print hears the same bytes, as in a handshake or between prints: it may only poll (unnumbered
+// M105) and report firmware, capabilities, temperatures, errors, restarts and, once, silence.
 #include <cstdint>
 #include <cstdlib>
 #include <map>
@@ -38,14 +40,30 @@ struct Checker {
   }
 };
 
+void check_idle(MarlinSession& s, int& timeouts) {
+  using K = SessionEvent::Kind;
+  for (const SessionEvent& e : s.take_events()) {
+    if (e.kind != K::temperatures && e.kind != K::error && e.kind != K::reset && e.kind != K::timeout)
+      std::abort();
+    if (e.kind == K::timeout && ++timeouts > 1) std::abort();
+  }
+  std::istringstream out(s.take_output());
+  for (std::string line; std::getline(out, line);)
+    if (line != "M105") std::abort();
+  if (s.state() != SessionState::idle || s.commands_total() != 0) std::abort();
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   SessionConfig config;
   config.reply_timeout = std::chrono::milliseconds(50);
   config.resend_ok_wait = std::chrono::milliseconds(20);
-  MarlinSession s(config);
+  config.idle_poll = std::chrono::milliseconds(30);
+  config.idle_silence_limit = std::chrono::milliseconds(200);
+  MarlinSession s(config), idle(config);
   Checker checker;
+  int idle_timeouts = 0;
   s.begin({"G28", "G1 X10 Y10 F3000", "M104 S200", "G1 X20 E1", "M105", "G1 X1", "G1 X2", "G1 X3"},
           Millis(0));
   checker.check(s);
@@ -61,11 +79,15 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const std::size_t nl = bytes.find('\n');
       const std::size_t take = nl == std::string_view::npos ? bytes.size() : nl + 1;
       s.on_receive(bytes.substr(0, take), Millis(now));
+      idle.on_receive(bytes.substr(0, take), Millis(now));
       bytes.remove_prefix(take);
       checker.check(s);
+      check_idle(idle, idle_timeouts);
     }
     s.on_tick(Millis(now));
+    idle.on_tick(Millis(now));
     checker.check(s);
+    check_idle(idle, idle_timeouts);
   }
   return 0;
 }

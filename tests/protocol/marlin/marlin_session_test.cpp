@@ -437,3 +437,55 @@ TEST_CASE("a corrupted M110 N0 is sent again, whatever line the firmware then as
     CHECK(s.commands_done() == 2);
   }
 }
+
+TEST_CASE("between prints a session listens: polls, temperatures, errors, a restart, and silence once") {
+  SessionConfig config;
+  config.idle_poll = milliseconds(2000);
+  config.idle_silence_limit = milliseconds(15000);
+  MarlinSession s(config);
+  s.on_tick(milliseconds(0));
+  CHECK(s.take_output() == "M105\n");  // unnumbered
+  s.on_tick(milliseconds(1000));
+  CHECK(s.take_output().empty());  // not yet
+  s.on_receive("ok T:20.5 /0.0 B:21.0 /60.0\nError:Heating failed\nstart\necho:busy\n", milliseconds(1500));
+  const auto events = s.take_events();
+  REQUIRE(events.size() == 3);
+  CHECK(events[0].kind == SessionEvent::Kind::temperatures);
+  CHECK(events[0].temperatures.bed_target == 60.0);
+  CHECK(events[1].kind == SessionEvent::Kind::error);
+  CHECK(events[1].text.find("Heating failed") != std::string::npos);
+  CHECK(events[2].kind == SessionEvent::Kind::reset);
+  s.on_tick(milliseconds(2000));
+  CHECK(s.take_output() == "M105\n");
+  s.on_tick(milliseconds(16000));  // 14.5 s since the last byte: still there
+  for (const auto& e : s.take_events()) CHECK(e.kind != SessionEvent::Kind::timeout);
+  s.on_tick(milliseconds(16600));
+  const auto lost = s.take_events();
+  REQUIRE(lost.size() == 1);
+  CHECK(lost[0].kind == SessionEvent::Kind::timeout);
+  CHECK(lost[0].text == "the printer stopped answering (nothing heard for 15 s between prints)");
+  s.on_tick(milliseconds(30000));
+  CHECK(s.take_events().empty());  // said once
+  CHECK(s.state() == SessionState::idle);
+
+  config.autoreport_temperature = true;  // M155: the firmware reports, nothing to ask
+  MarlinSession quiet(config);
+  quiet.on_tick(milliseconds(0));
+  CHECK(quiet.take_output().empty());
+}
+
+TEST_CASE(
+    "a listening session hears the handshake: firmware, enabled capabilities, and the ok that ends it") {
+  MarlinSession s;
+  s.on_receive("FIRMWARE_NAME:Marlin 2.1.2 (salient-sim)\nCap:EMERGENCY_PARSER:1\nCap:AUTOREPORT_TEMP:0\n",
+               milliseconds(5));
+  CHECK(s.oks_heard() == 0);
+  s.on_receive("ok\n", milliseconds(6));
+  CHECK(s.oks_heard() == 1);
+  const auto events = s.take_events();
+  REQUIRE(events.size() == 2);  // a capability that is off says nothing
+  CHECK(events[0].kind == SessionEvent::Kind::firmware);
+  CHECK(events[0].text.find("Marlin") != std::string::npos);
+  CHECK(events[1].kind == SessionEvent::Kind::capability);
+  CHECK(events[1].text == "EMERGENCY_PARSER");
+}

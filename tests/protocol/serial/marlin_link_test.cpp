@@ -149,8 +149,7 @@ struct Run {
 };
 
 Run print_through(const std::vector<std::string>& sim_args, const std::vector<std::string>& gcode,
-                  milliseconds timeout, std::size_t resume_from = 0,
-                  const std::vector<std::string>& prelude = {}) {
+                  milliseconds timeout, std::size_t resume_from = 0) {
   Simulator sim(sim_args);
   serial::LinkConfig config;
   config.session.reply_timeout = timeout;
@@ -158,7 +157,7 @@ Run print_through(const std::vector<std::string>& sim_args, const std::vector<st
   serial::MarlinLink link(serial::open_serial({sim.device(), 250000, true, false}), config);
   link.handshake();
   Run run;
-  run.result = link.print(gcode, {}, resume_from, prelude);
+  run.result = link.print(std::make_shared<const Program>(Program::from_lines(gcode)), {}, resume_from);
   sim.stop();
   run.log = sim.log();
   run.lines_rejected = sim.stat("lines_rejected");
@@ -193,7 +192,7 @@ void check_exact(const std::vector<std::string>& sim_args, milliseconds timeout)
   const auto& gcode = big_file();
   REQUIRE(gcode.size() >= 50000);
   const Run run = print_through(sim_args, gcode, timeout);
-  CHECK(run.result.state == marlin::SessionState::finished);
+  CHECK(run.result.end == PrintEnd::finished);
   CHECK(run.result.confirmed == run.result.total);
   const std::vector<std::string> expected = commands_of(gcode);
   const std::vector<std::string> got = printed(run);
@@ -232,7 +231,7 @@ TEST_CASE("busy heating: the keepalives hold off the timeout, no poke is needed"
   // Heating takes ~2 s of wall time; busy comes every 60 ms; the host would poke after 300 ms.
   const auto& gcode = big_file();
   const Run run = print_through({"--heat-time-scale", "0.03"}, gcode, milliseconds(300));
-  CHECK(run.result.state == marlin::SessionState::finished);
+  CHECK(run.result.end == PrintEnd::finished);
   CHECK(run.result.pokes == 0);
   CHECK(printed(run) == commands_of(gcode));
 }
@@ -250,7 +249,7 @@ TEST_CASE("a disconnect ends the print with the last confirmed command, and resu
   const Run cut =
       print_through({"--advanced-ok", "--faults", "disconnect-after=5000"}, gcode, milliseconds(500));
   CHECK(cut.result.disconnected);
-  CHECK(cut.result.state == marlin::SessionState::failed);
+  CHECK(cut.result.end == PrintEnd::failed);
   CHECK(cut.result.reason.find("disconnected") != std::string::npos);
   const std::vector<std::string> first = printed(cut);
   // 5000 executed including M115 and M110; what was confirmed was executed, in order.
@@ -260,9 +259,10 @@ TEST_CASE("a disconnect ends the print with the last confirmed command, and resu
   CHECK(cut.result.confirmed + 4 >= first.size());  // at most the lines in flight went unconfirmed
   // Resume on a fresh printer from the last confirmed command.
   const std::size_t from = cut.result.confirmed;
-  const std::vector<std::string> prelude = marlin::resume_prelude(gcode, from);
-  const Run rest = print_through({"--advanced-ok"}, gcode, milliseconds(500), from, prelude);
-  CHECK(rest.result.state == marlin::SessionState::finished);
+  const std::vector<std::string> prelude = marlin::resume_prelude(Program::from_lines(gcode), from);
+  const Run rest =
+      print_through({"--advanced-ok"}, gcode, milliseconds(500), from);  // the link adds the prelude
+  CHECK(rest.result.end == PrintEnd::finished);
   std::vector<std::string> expected = prelude;
   const std::vector<std::string> tail = commands_of(gcode, from);
   expected.insert(expected.end(), tail.begin(), tail.end());
@@ -271,7 +271,7 @@ TEST_CASE("a disconnect ends the print with the last confirmed command, and resu
 
 TEST_CASE("a reset ends the print with a clear state and the last confirmed command") {
   const Run run = print_through({"--faults", "reset-after=3000"}, big_file(), milliseconds(500));
-  CHECK(run.result.state == marlin::SessionState::failed);
+  CHECK(run.result.end == PrintEnd::failed);
   CHECK_FALSE(run.result.disconnected);
   CHECK(run.result.reason.find("restarted") != std::string::npos);
   // Executed: M115, M110 and 2998 of the file's commands; the last of them rebooted it before its ok.
@@ -280,13 +280,13 @@ TEST_CASE("a reset ends the print with a clear state and the last confirmed comm
 
 TEST_CASE("thermal runaway stops sending at once") {
   const Run run = print_through({"--faults", "thermal-runaway-at=4000"}, big_file(), milliseconds(500));
-  CHECK(run.result.state == marlin::SessionState::failed);
+  CHECK(run.result.end == PrintEnd::failed);
   CHECK(run.result.reason.find("Thermal Runaway") != std::string::npos);
   CHECK(run.log.size() == 4000);
   CHECK(run.lines_after_halt == 0);  // not a single line after the error
   const Run ahead =
       print_through({"--advanced-ok", "--faults", "thermal-runaway-at=4000"}, big_file(), milliseconds(500));
-  CHECK(ahead.result.state == marlin::SessionState::failed);
+  CHECK(ahead.result.end == PrintEnd::failed);
   CHECK(ahead.lines_after_halt <= 3);  // only lines already on the wire when it halted (B ≤ 3)
 }
 
@@ -337,12 +337,12 @@ TEST_CASE("the TCP transport (a ser2net-style bridge): the same print, exactly")
   serial::MarlinLink link(serial::open_tcp("127.0.0.1:" + std::to_string(ntohs(a.sin_port))), config);
   CHECK(link.handshake().name.find("salient-sim") != std::string::npos);
   Run run;
-  run.result = link.print(gcode);
+  run.result = link.print(std::make_shared<const Program>(Program::from_lines(gcode)));
   stop = true;
   bridge.join();
   ::close(listener);
   run.log = executed;
-  CHECK(run.result.state == marlin::SessionState::finished);
+  CHECK(run.result.end == PrintEnd::finished);
   CHECK(run.result.lines_resent > 0);  // the noise was there, and was got over
   CHECK(printed(run) == commands_of(gcode));
 }

@@ -23,7 +23,7 @@ TEST_CASE("the shipped config/salientd.toml is exactly the embedded defaults") {
   CHECK(shipped.max_bodies_in_flight_bytes == d.max_bodies_in_flight_bytes);
   REQUIRE(shipped.printers.size() == 1);
   CHECK(shipped.printers[0].id == "sim");
-  CHECK(shipped.printers[0].kind == "sim");
+  CHECK(shipped.printers[0].kind == PrinterKind::sim);
   CHECK(shipped.printers[0].sim_args == d.printers[0].sim_args);
   CHECK(shipped.printers[0].autoconnect == d.printers[0].autoconnect);
   CHECK(shipped.printers[0].profile == d.printers[0].profile);
@@ -53,6 +53,8 @@ port = "10.0.0.5:2000"
   REQUIRE(c.printers.size() == 2);
   CHECK(c.printers[0].baud == 115200);
   CHECK(c.printers[1].port == "10.0.0.5:2000");
+  CHECK(c.printers[0].kind == PrinterKind::serial);
+  CHECK(c.printers[1].kind == PrinterKind::tcp);
 }
 
 TEST_CASE("mistakes name the file, the line and the key") {

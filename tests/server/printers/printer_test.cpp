@@ -14,7 +14,8 @@
 #include <thread>
 
 #include "protocol/marlin/line_codec.hpp"
-#include "server/http/router.hpp"
+#include "server/api/printer_json.hpp"
+#include "server/common/domain_error.hpp"
 #include "server/printers/sim_process.hpp"
 #include "tests/support/scratch_dir.hpp"
 
@@ -56,7 +57,7 @@ std::vector<std::string> executed(const std::filesystem::path& log) {
 }
 
 json status(const Printer& p) {
-  return json::parse(p.status_json());
+  return printer_status_json(p.status());
 }
 
 template <typename F>
@@ -98,23 +99,23 @@ TEST_CASE("connect, print exactly, refuse what the state does not allow, and tel
   Fixture f("printer-print");
   Printer p(f.sim("--advanced-ok --time-scale 0"), f.store, f.hooks());
   p.start();
-  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
   CHECK(status(p)["firmware"].get<std::string>().find("Marlin") != std::string::npos);
-  CHECK_THROWS_AS(p.connect(), ApiError);  // already connected
-  CHECK_THROWS_AS(p.pause(), ApiError);    // nothing to pause
+  CHECK_THROWS_AS(p.connect(), Conflict);  // already connected
+  CHECK_THROWS_AS(p.pause(), Conflict);    // nothing to pause
 
   const std::string gcode = make_gcode(20000);
   const long long id = p.print(f.file(gcode));
-  CHECK(p.state() == "printing");
+  CHECK(p.state() == PrinterState::printing);
   try {
     p.print(f.file(gcode));
     FAIL("a second print was accepted");
-  } catch (const ApiError& e) {
-    CHECK(e.status() == 409);
+  } catch (const DomainError& e) {
+    CHECK(e.kind() == ErrorKind::conflict);
   }
-  CHECK_THROWS_AS(p.command({"G28"}), ApiError);
-  CHECK_THROWS_AS(p.disconnect(), ApiError);
-  REQUIRE(eventually([&] { return p.state() == "operational"; }, 60s));
+  CHECK_THROWS_AS(p.command({"G28"}), Conflict);
+  CHECK_THROWS_AS(p.disconnect(), Conflict);
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }, 60s));
   const json s = status(p);
   CHECK(s["last_print"]["id"] == id);
   CHECK(s["last_print"]["state"] == "finished");
@@ -128,18 +129,18 @@ TEST_CASE("connect, print exactly, refuse what the state does not allow, and tel
   // The database has it too, for the next start.
   const auto stored = PrintStore(f.store.db()).get(id);
   REQUIRE(stored);
-  CHECK(stored->state == "finished");
+  CHECK(stored->state == PrintState::finished);
 }
 
 TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down") {
   Fixture f("printer-pause");
   Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
   p.start();
-  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
   p.print(f.file(make_gcode(5000)));
   REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 50; }));
   p.pause();
-  CHECK(p.state() == "paused");
+  CHECK(p.state() == PrinterState::paused);
   std::this_thread::sleep_for(500ms);  // what was in flight settles
   const long long held = status(p)["print"]["confirmed"];
   std::this_thread::sleep_for(500ms);
@@ -147,7 +148,7 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   p.resume();
   REQUIRE(eventually([&] { return status(p)["print"]["confirmed"] > held; }));
   p.cancel();
-  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
   CHECK(status(p)["last_print"]["state"] == "cancelled");
   p.stop();
   const auto log = executed(f.dir.path / "sim.log");
@@ -162,14 +163,14 @@ TEST_CASE("a stop mid-print leaves it interrupted and resumable, and the resume 
   {
     Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
     p.start();
-    REQUIRE(eventually([&] { return p.state() == "operational"; }));
+    REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
     id = p.print(f.file(gcode));
     REQUIRE(
         eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 200; }));
     p.stop();
     const auto r = PrintStore(f.store.db()).get(id);
     REQUIRE(r);
-    CHECK(r->state == "interrupted");
+    CHECK(r->state == PrintState::interrupted);
     confirmed = r->confirmed;
     CHECK(confirmed > 200);
     CHECK(confirmed < r->total);
@@ -178,11 +179,11 @@ TEST_CASE("a stop mid-print leaves it interrupted and resumable, and the resume 
   Printer p(f.sim("--advanced-ok --time-scale 0"), f.store, f.hooks());
   CHECK(status(p)["last_print"]["resumable"] == true);
   p.start();
-  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
   const auto record = PrintStore(f.store.db()).get(id);
   p.print(
       {record->job_id, record->file_digest, record->filename, static_cast<std::size_t>(record->confirmed)});
-  REQUIRE(eventually([&] { return p.state() == "operational"; }, 60s));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }, 60s));
   CHECK(status(p)["last_print"]["state"] == "finished");
   p.stop();
   const auto all = commands_of(gcode);
@@ -198,16 +199,16 @@ TEST_CASE("emergency stop halts the firmware, and the printer reports an error u
   Printer p(f.sim("--advanced-ok --emergency-parser --time-scale 0.05 --heat-time-scale 0"), f.store,
             f.hooks());
   p.start();
-  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
   p.print(f.file(make_gcode(5000)));
   REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 10; }));
   p.emergency_stop();
-  REQUIRE(eventually([&] { return p.state() == "error"; }));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::error; }));
   CHECK(status(p)["last_print"]["state"] == "failed");
   CHECK(status(p)["error"].get<std::string>().find("emergency stop") != std::string::npos);
-  CHECK_THROWS_AS(p.command({"G28"}), ApiError);
+  CHECK_THROWS_AS(p.command({"G28"}), Conflict);
   p.connect();  // a fresh simulator, as a reset board
-  REQUIRE(eventually([&] { return p.state() == "operational"; }));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
   p.command({"M106 S255", "M107"});
   p.stop();
 }
@@ -216,7 +217,7 @@ TEST_CASE("a simulator that cannot start is an error naming it, not a hang") {
   Fixture f("printer-bad-sim");
   Printer p(f.sim("--bufsize 7"), f.store, f.hooks());  // salient-sim refuses it
   p.start();
-  REQUIRE(eventually([&] { return p.state() == "error"; }));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::error; }));
   CHECK(status(p)["error"].get<std::string>().find("cannot connect") != std::string::npos);
 }
 

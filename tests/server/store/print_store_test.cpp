@@ -12,23 +12,23 @@ TEST_CASE("prints: progress as it goes, finished, and those a crash left become 
   Store store(dir.path);
   PrintStore prints(store.db());
   const PrintRecord a = prints.create("sim", std::nullopt, "abc", "a.gcode", 1000, 10.0);
-  CHECK(a.state == "printing");
+  CHECK(a.state == PrintState::printing);
   CHECK(a.total == 1000);
-  prints.set_progress(a.id, "paused", 400);
+  prints.set_progress(a.id, PrintState::paused, 400);
   CHECK(prints.get(a.id)->confirmed == 400);
-  CHECK(prints.get(a.id)->state == "paused");
-  prints.finish(a.id, "finished", 1000, std::nullopt, 20.0);
-  prints.set_progress(a.id, "printing", 3);  // a late update cannot reopen a finished print
-  CHECK(prints.get(a.id)->state == "finished");
+  CHECK(prints.get(a.id)->state == PrintState::paused);
+  prints.finish(a.id, PrintState::finished, 1000, std::nullopt, 20.0);
+  prints.set_progress(a.id, PrintState::printing, 3);  // a late update cannot reopen a finished print
+  CHECK(prints.get(a.id)->state == PrintState::finished);
   CHECK(prints.get(a.id)->confirmed == 1000);
   const PrintRecord b = prints.create("sim", std::nullopt, "def", "b.gcode", 500, 30.0);
-  prints.set_progress(b.id, "printing", 123);
+  prints.set_progress(b.id, PrintState::printing, 123);
   prints.create("other", std::nullopt, "def", "b.gcode", 500, 31.0);
   CHECK(prints.latest("sim")->id == b.id);
   CHECK(prints.list("sim", 10).size() == 2);
   CHECK(prints.mark_interrupted(40.0) == 2);
   const auto after = prints.get(b.id);
-  CHECK(after->state == "interrupted");
+  CHECK(after->state == PrintState::interrupted);
   CHECK(after->confirmed == 123);
   CHECK(after->finished_at == 40.0);
   CHECK(prints.mark_interrupted(41.0) == 0);

@@ -1,0 +1,58 @@
+#include "server/api/printer_json.hpp"
+
+namespace salient::server {
+namespace {
+
+using nlohmann::json;
+
+json optional_number(const std::optional<double>& v) {
+  return v ? json(*v) : json(nullptr);
+}
+
+json optional_text(const std::string& s) {
+  return s.empty() ? json(nullptr) : json(s);
+}
+
+json temperature_json(const Temperature& t) {
+  return {{"actual", optional_number(t.actual)}, {"target", optional_number(t.target)}};
+}
+
+}  // namespace
+
+json print_record_json(const PrintRecord& p) {
+  return {{"id", p.id},
+          {"job", p.job_id ? json(*p.job_id) : json(nullptr)},
+          {"file", p.filename},
+          {"state", to_string(p.state)},
+          {"confirmed", p.confirmed},
+          {"total", p.total},
+          {"progress", p.total > 0 ? double(p.confirmed) / double(p.total) : 0.0},
+          {"reason", p.reason ? json(*p.reason) : json(nullptr)},
+          {"started_at", p.started_at},
+          {"finished_at", p.finished_at ? json(*p.finished_at) : json(nullptr)},
+          // What a restart or a pulled cable leaves: where `POST …/print {"resume": id}` goes on from.
+          {"resumable", (p.state == PrintState::failed || p.state == PrintState::interrupted) &&
+                            p.confirmed > 0 && p.confirmed < p.total}};
+}
+
+json printer_status_json(const PrinterStatus& s) {
+  json print = nullptr;
+  if (s.print) {
+    print = print_record_json(s.print->record);
+    print["elapsed"] = s.print->elapsed;
+    print["eta"] = optional_number(s.print->eta());
+  }
+  return {{"id", s.id},
+          {"kind", to_string(s.kind)},
+          {"protocol", to_string(s.protocol)},
+          {"profile", s.profile},
+          {"state", to_string(s.state)},
+          {"error", optional_text(s.error)},
+          {"firmware", optional_text(s.firmware)},
+          {"device", optional_text(s.device)},
+          {"temperatures", {{"hotend", temperature_json(s.hotend)}, {"bed", temperature_json(s.bed)}}},
+          {"print", print},
+          {"last_print", s.last_print ? print_record_json(*s.last_print) : json(nullptr)}};
+}
+
+}  // namespace salient::server

@@ -1,0 +1,21 @@
+// The G-code a printer prints, checked when a print is asked for: a file the firmware cannot take
+// is refused before it starts, not halfway.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "protocol/gcode/program.hpp"
+
+namespace salient::server {
+
+// `gcode` as the program to stream; Unprocessable (422) when it has no command, or a line that
+// cannot be sent (too long, binary, not ASCII), named with its line number.
+std::shared_ptr<const protocol::Program> printable_program(const std::string& name, const std::string& gcode);
+
+// The number of commands in `gcode`, refused as printable_program refuses it.
+inline long long check_printable(const std::string& name, const std::string& gcode) {
+  return static_cast<long long>(printable_program(name, gcode)->size());
+}
+
+}  // namespace salient::server

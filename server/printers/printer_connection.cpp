@@ -1,0 +1,42 @@
+#include "server/printers/printer_connection.hpp"
+
+#include "protocol/serial/marlin_link.hpp"
+#include "server/printers/terminal_tap.hpp"
+
+namespace salient::server {
+
+PrinterConnection open_printer_connection(const PrinterConfig& config, TerminalHooks terminal) {
+  namespace serial = protocol::serial;
+  PrinterConnection c;
+  std::unique_ptr<serial::Transport> transport;
+  switch (config.kind) {
+    case PrinterKind::sim:
+      c.sim = std::make_unique<SimProcess>(find_sim_program(), split_args(config.sim_args));
+      c.device = c.sim->device();
+      transport = serial::open_serial({c.device, config.baud});
+      break;
+    case PrinterKind::serial:
+      c.device = config.port;
+      transport = serial::open_serial({c.device, config.baud});
+      break;
+    case PrinterKind::tcp:
+      c.device = config.port;
+      transport = serial::open_tcp(config.port);
+      break;
+  }
+  auto wanted = std::move(terminal.wanted);
+  auto line = std::move(terminal.line);
+  auto tap = std::make_unique<TerminalTap>(
+      std::move(transport), [wanted = std::move(wanted)] { return wanted && wanted(); },
+      [line = std::move(line)](bool sent, std::string_view l) {
+        if (line) line(sent, l);
+      });
+  switch (config.protocol) {
+    case PrinterProtocol::marlin:
+      c.link = std::make_unique<serial::MarlinLink>(std::move(tap));
+      break;
+  }
+  return c;
+}
+
+}  // namespace salient::server

@@ -1,0 +1,72 @@
+// CommandQueue: what a printer's thread takes next, whatever order the requests came in.
+#include "server/printers/command_queue.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace salient::server;
+
+namespace {
+
+template <typename T>
+bool next_is(CommandQueue& q, bool linked = true) {
+  const auto c = q.take(linked);
+  return c && std::holds_alternative<T>(*c);
+}
+
+}  // namespace
+
+TEST_CASE(
+    "without a link only a connect goes, with one a disconnect, an e-stop, a print, then console batches") {
+  CommandQueue q;
+  q.push(ConsoleCommand{{"G28"}});
+  q.push(ConsoleCommand{{"M105"}});
+  q.push(PrintCommand{{std::nullopt, "digest", "a.gcode", 0}, 7});
+  q.push(EmergencyStopCommand{});
+  CHECK(!q.take(false));  // nothing of that can go before the link is up
+  q.push(ConnectCommand{});
+  CHECK(next_is<ConnectCommand>(q, false));
+  q.push(DisconnectCommand{});
+  CHECK(next_is<DisconnectCommand>(q));
+  CHECK(next_is<EmergencyStopCommand>(q));
+  CHECK(q.print_waiting());
+  const auto p = q.take(true);
+  REQUIRE(p);
+  CHECK(std::get<PrintCommand>(*p).print_id == 7);
+  CHECK(!q.print_waiting());
+  const auto first = q.take(true);
+  REQUIRE(first);
+  CHECK(std::get<ConsoleCommand>(*first).lines == std::vector<std::string>{"G28"});  // in the order they came
+  CHECK(std::get<ConsoleCommand>(*q.take(true)).lines == std::vector<std::string>{"M105"});
+  CHECK(!q.take(true));
+  CHECK(q.empty());
+}
+
+TEST_CASE(
+    "a disconnect drops a waiting connect and the other way round, and a linked printer drops a connect") {
+  CommandQueue q;
+  q.push(ConnectCommand{});
+  q.push(DisconnectCommand{});
+  CHECK(!q.connect_waiting());
+  CHECK(!q.take(false));
+  q.push(ConnectCommand{});
+  CHECK(q.connect_waiting());
+  CHECK(!q.take(true));  // connected already: nothing to do
+  CHECK(!q.connect_waiting());
+  q.push(DisconnectCommand{});
+  q.push(ConnectCommand{});
+  CHECK(!q.take(true));  // the connect undid the disconnect
+}
+
+TEST_CASE("console batches are bounded, and a closed connection carries nothing over") {
+  CommandQueue q;
+  for (std::size_t i = 0; i < CommandQueue::kMaxConsoleBatches; ++i) {
+    CHECK(!q.console_full());
+    q.push(ConsoleCommand{{"M105"}});
+  }
+  CHECK(q.console_full());
+  q.push(EmergencyStopCommand{});
+  q.push(PrintCommand{});
+  q.clear();
+  CHECK(q.empty());
+  CHECK(!q.take(true));
+}
