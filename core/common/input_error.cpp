@@ -7,9 +7,9 @@ namespace {
 std::string format(const std::string& source, const InputLocation& where, const std::string& message) {
   std::string out = source.empty() ? std::string("<input>") : source;
   if (where.line) {
-    out += ':' + std::to_string(*where.line) + ": ";
+    out.append(":").append(std::to_string(*where.line)).append(": ");
   } else if (where.byte) {
-    out += ": byte " + std::to_string(*where.byte) + ": ";
+    out.append(": byte ").append(std::to_string(*where.byte)).append(": ");
   } else {
     out += ": ";
   }

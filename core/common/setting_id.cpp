@@ -4,10 +4,12 @@
 #include <array>
 #include <utility>
 
+#include "core/common/name_table.hpp"
+
 namespace salient::core {
 namespace {
 
-constexpr std::array<std::pair<SettingId, std::string_view>, 26> keys = {{
+constexpr NameTable<SettingId, 26> keys = {{
     {SettingId::printer, "printer"},
     {SettingId::planner, "planner"},
     {SettingId::up, "up"},
@@ -39,15 +41,11 @@ constexpr std::array<std::pair<SettingId, std::string_view>, 26> keys = {{
 }  // namespace
 
 std::string_view setting_key(SettingId id) {
-  for (const auto& [i, key] : keys)
-    if (i == id) return key;
-  return {};
+  return name_in(keys, id);
 }
 
 std::optional<SettingId> setting_from_key(std::string_view key) {
-  for (const auto& [id, k] : keys)
-    if (k == key) return id;
-  return std::nullopt;
+  return value_in(keys, key);
 }
 
 std::string spell_settings(std::string_view text, const SettingSpeller& spell) {

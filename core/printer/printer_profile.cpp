@@ -4,30 +4,27 @@
 
 #include <fstream>
 #include <sstream>
+#include <utility>
 
 #include "core/common/input_error.hpp"
+#include "core/common/name_table.hpp"
 #include "core/common/toml_table_reader.hpp"
 #include "core/printer/builtin_profiles.hpp"
 
 namespace salient::core {
 
+namespace {
+// The one name table of the G-code flavours.
+constexpr NameTable<GcodeFlavor, 3> kFlavorNames{
+    {{GcodeFlavor::marlin, "marlin"}, {GcodeFlavor::reprap, "reprap"}, {GcodeFlavor::sailfish, "sailfish"}}};
+}  // namespace
+
 std::optional<GcodeFlavor> parse_gcode_flavor(std::string_view name) {
-  if (name == "marlin") return GcodeFlavor::marlin;
-  if (name == "reprap") return GcodeFlavor::reprap;
-  if (name == "sailfish") return GcodeFlavor::sailfish;
-  return std::nullopt;
+  return value_in(kFlavorNames, name);
 }
 
 std::string_view gcode_flavor_name(GcodeFlavor flavor) {
-  switch (flavor) {
-    case GcodeFlavor::marlin:
-      return "marlin";
-    case GcodeFlavor::reprap:
-      return "reprap";
-    case GcodeFlavor::sailfish:
-      return "sailfish";
-  }
-  return "marlin";
+  return name_in(kFlavorNames, flavor, "marlin");
 }
 
 PrinterProfile parse_printer_profile(std::string_view text, const std::string& source) {

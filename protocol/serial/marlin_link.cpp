@@ -14,7 +14,8 @@ using marlin::Millis;
 // action, timeout, finished, failed — is the link's own business or in the PrintResult).
 std::optional<LinkEvent> to_link_event(const marlin::SessionEvent& e) {
   using K = marlin::SessionEvent::Kind;
-  LinkEvent out{LinkEvent::Kind::progress};
+  LinkEvent out;
+  out.kind = LinkEvent::Kind::progress;
   switch (e.kind) {
     case K::acknowledged:
       out.done = static_cast<std::size_t>(e.line);

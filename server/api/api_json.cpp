@@ -1,6 +1,6 @@
 #include "server/api/api_json.hpp"
 
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 
 namespace salient::server {
 

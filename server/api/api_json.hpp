@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 #include "server/http/router.hpp"
 #include "server/jobs/job.hpp"
 

@@ -8,7 +8,7 @@
 #include "server/api/api_json.hpp"
 #include "server/api/printer_json.hpp"
 #include "server/api/routes.hpp"
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 #include "server/store/job_store.hpp"
 
 namespace salient::server {

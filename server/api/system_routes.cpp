@@ -2,7 +2,7 @@
 
 #include "server/api/routes.hpp"
 #include "server/build_info.hpp"
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 
 namespace salient::server {
 

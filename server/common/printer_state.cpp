@@ -3,10 +3,12 @@
 #include <array>
 #include <utility>
 
+#include "core/common/name_table.hpp"
+
 namespace salient::server {
 namespace {
 
-constexpr std::array<std::pair<PrinterState, std::string_view>, 7> printer_names{{
+constexpr core::NameTable<PrinterState, 7> printer_names{{
     {PrinterState::disconnected, "disconnected"},
     {PrinterState::connecting, "connecting"},
     {PrinterState::operational, "operational"},
@@ -16,7 +18,7 @@ constexpr std::array<std::pair<PrinterState, std::string_view>, 7> printer_names
     {PrinterState::error, "error"},
 }};
 
-constexpr std::array<std::pair<PrintState, std::string_view>, 6> print_names{{
+constexpr core::NameTable<PrintState, 6> print_names{{
     {PrintState::printing, "printing"},
     {PrintState::paused, "paused"},
     {PrintState::finished, "finished"},
@@ -28,21 +30,15 @@ constexpr std::array<std::pair<PrintState, std::string_view>, 6> print_names{{
 }  // namespace
 
 std::string_view to_string(PrinterState s) {
-  for (const auto& [state, name] : printer_names)
-    if (state == s) return name;
-  return "error";
+  return core::name_in(printer_names, s, "error");
 }
 
 std::string_view to_string(PrintState s) {
-  for (const auto& [state, name] : print_names)
-    if (state == s) return name;
-  return "failed";
+  return core::name_in(print_names, s, "failed");
 }
 
 std::optional<PrintState> print_state_from(std::string_view s) {
-  for (const auto& [state, name] : print_names)
-    if (name == s) return state;
-  return std::nullopt;
+  return core::value_in(print_names, s);
 }
 
 }  // namespace salient::server

@@ -3,43 +3,37 @@
 #include <array>
 #include <utility>
 
+#include "core/common/name_table.hpp"
+
 namespace salient::server {
 namespace {
 
-constexpr std::array<std::pair<PrinterKind, std::string_view>, 3> kind_names{{
+constexpr core::NameTable<PrinterKind, 3> kind_names{{
     {PrinterKind::sim, "sim"},
     {PrinterKind::serial, "serial"},
     {PrinterKind::tcp, "tcp"},
 }};
 
-constexpr std::array<std::pair<PrinterProtocol, std::string_view>, 1> protocol_names{{
+constexpr core::NameTable<PrinterProtocol, 1> protocol_names{{
     {PrinterProtocol::marlin, "marlin"},
 }};
 
 }  // namespace
 
 std::string_view to_string(PrinterKind k) {
-  for (const auto& [kind, name] : kind_names)
-    if (kind == k) return name;
-  return "serial";
+  return core::name_in(kind_names, k, "serial");
 }
 
 std::optional<PrinterKind> printer_kind_from(std::string_view s) {
-  for (const auto& [kind, name] : kind_names)
-    if (name == s) return kind;
-  return std::nullopt;
+  return core::value_in(kind_names, s);
 }
 
 std::string_view to_string(PrinterProtocol p) {
-  for (const auto& [protocol, name] : protocol_names)
-    if (protocol == p) return name;
-  return "marlin";
+  return core::name_in(protocol_names, p, "marlin");
 }
 
 std::optional<PrinterProtocol> printer_protocol_from(std::string_view s) {
-  for (const auto& [protocol, name] : protocol_names)
-    if (name == s) return protocol;
-  return std::nullopt;
+  return core::value_in(protocol_names, s);
 }
 
 }  // namespace salient::server

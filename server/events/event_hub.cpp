@@ -5,7 +5,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 
 namespace salient::server {
 namespace {

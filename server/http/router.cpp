@@ -2,7 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 
 namespace salient::server {
 

@@ -1,6 +1,8 @@
 // One WebSocket connection: a read loop that hands text to the channel, and a write loop that
 // drains the channel whenever it wakes us. Pings and the close handshake are Beast's.
 #include <boost/asio/post.hpp>
+#include <boost/beast/core/buffers_to_string.hpp>
+#include <boost/beast/core/flat_buffer.hpp>
 #include <boost/beast/websocket.hpp>
 
 #include "server/http/http_shared.hpp"

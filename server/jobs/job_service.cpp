@@ -13,7 +13,7 @@
 #include "core/pipeline/slice_pipeline.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "server/common/domain_error.hpp"
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 #include "server/jobs/job_progress.hpp"
 #include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"

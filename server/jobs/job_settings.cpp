@@ -7,7 +7,7 @@
 #include "core/common/input_error.hpp"
 #include "core/pipeline/setting_table.hpp"
 #include "server/common/domain_error.hpp"
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 
 namespace salient::server {
 namespace {

@@ -1,6 +1,6 @@
 // A job's state and phase, and their one name table each: the text in the API's JSON, in the
-// database and in events. Standard library only, so that the CLI reads the daemon's JSON with the
-// same names (clients/cli/client_commands.cpp).
+// database and in events. Standard library (and core/common/name_table.hpp) only, so that the
+// CLI reads the daemon's JSON with the same names (clients/cli/client_commands.cpp).
 //   States: queued → running → done | failed | cancelled.
 //   Phases of a running job, in order: load, orient (only with "up": "auto"), saliency, plan
 //   (the z-profile, the planner and, with "segment", SegOpt), toolpaths (and G-code); none while
@@ -12,19 +12,21 @@
 #include <string_view>
 #include <utility>
 
+#include "core/common/name_table.hpp"
+
 namespace salient::server {
 
 enum class JobState { queued, running, done, failed, cancelled };
 enum class JobPhase { none, load, orient, saliency, plan, toolpaths };
 
-inline constexpr std::array<std::pair<JobState, std::string_view>, 5> job_state_names{{
+inline constexpr core::NameTable<JobState, 5> job_state_names{{
     {JobState::queued, "queued"},
     {JobState::running, "running"},
     {JobState::done, "done"},
     {JobState::failed, "failed"},
     {JobState::cancelled, "cancelled"},
 }};
-inline constexpr std::array<std::pair<JobPhase, std::string_view>, 6> job_phase_names{{
+inline constexpr core::NameTable<JobPhase, 6> job_phase_names{{
     {JobPhase::none, ""},
     {JobPhase::load, "load"},
     {JobPhase::orient, "orient"},
@@ -34,25 +36,17 @@ inline constexpr std::array<std::pair<JobPhase, std::string_view>, 6> job_phase_
 }};
 
 constexpr std::string_view to_string(JobState s) {
-  for (const auto& [v, name] : job_state_names)
-    if (v == s) return name;
-  return {};
+  return core::name_in(job_state_names, s);
 }
 constexpr std::string_view to_string(JobPhase p) {
-  for (const auto& [v, name] : job_phase_names)
-    if (v == p) return name;
-  return {};
+  return core::name_in(job_phase_names, p);
 }
 // Empty for a name not in the table (a newer daemon's, or a typo in a query).
 constexpr std::optional<JobState> job_state_from(std::string_view name) {
-  for (const auto& [v, n] : job_state_names)
-    if (n == name) return v;
-  return std::nullopt;
+  return core::value_in(job_state_names, name);
 }
 constexpr std::optional<JobPhase> job_phase_from(std::string_view name) {
-  for (const auto& [v, n] : job_phase_names)
-    if (n == name) return v;
-  return std::nullopt;
+  return core::value_in(job_phase_names, name);
 }
 
 constexpr bool finished(JobState s) {

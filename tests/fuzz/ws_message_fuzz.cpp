@@ -7,8 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include "server/common/json_text.hpp"
 #include "server/events/event_hub.hpp"
-#include "server/http/json_text.hpp"
 
 using namespace salient::server;
 using nlohmann::json;

@@ -254,7 +254,8 @@ TEST_CASE("a job cancelled the moment it starts running is never sliced to the e
   CHECK(files == 1);
 }
 
-TEST_CASE("a job's plan is a salient-plan the plan reader reads and its result has the plan's SegOpt report") {
+TEST_CASE(
+    "a job's plan is a salient-plan the plan reader reads and its result has the plan's SegOpt report") {
   const salient::test::ScratchDir dir("jobs-plan");
   Store store(dir.path);
   JobService service(store, {});

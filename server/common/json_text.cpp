@@ -1,4 +1,4 @@
-#include "server/http/json_text.hpp"
+#include "server/common/json_text.hpp"
 
 #include <nlohmann/json.hpp>
 #include <stdexcept>
