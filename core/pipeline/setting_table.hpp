@@ -26,7 +26,7 @@ struct Settings {
 
 enum class SettingType {
   number,   // double
-  integer,  // std::int64_t (a job's number is truncated, as it always was)
+  integer,  // std::int64_t (a job must give a whole number)
   flag,     // bool
   text,     // std::string
   choice,   // std::string, one of choices()

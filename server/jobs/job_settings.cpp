@@ -2,6 +2,7 @@
 // range, set through the row, then checked as slice_model would before it loads anything.
 #include "server/jobs/job_settings.hpp"
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "core/common/input_error.hpp"
@@ -35,9 +36,14 @@ core::SettingValue value_of(const core::Setting& s, const json& v) {
     case core::SettingType::integer: {
       if (!v.is_number()) bad_key(s.key, "must be a number");
       const double x = v.get<double>();
+      const bool integer = s.type == core::SettingType::integer;
+      const auto bound = [integer](double b) {
+        return integer ? json_text(json(static_cast<std::int64_t>(b))) : json_text(json(b));
+      };
       if (!(x >= s.min && x <= s.max))
-        bad_key(s.key, "must be between " + json_text(json(s.min)) + " and " + json_text(json(s.max)));
-      if (s.type == core::SettingType::integer) return static_cast<std::int64_t>(x);
+        bad_key(s.key, "must be between " + bound(s.min) + " and " + bound(s.max));
+      if (integer && x != std::floor(x)) bad_key(s.key, "must be a whole number");
+      if (integer) return static_cast<std::int64_t>(x);
       return x;
     }
     case core::SettingType::flag:

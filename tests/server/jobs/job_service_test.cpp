@@ -141,6 +141,19 @@ TEST_CASE(
     CHECK(std::string(e.what()).find("--") == std::string::npos);
   }
   CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"grid": 0.03})"); }) == 400);
+  // Whole-number settings want whole numbers, and say their range as whole numbers.
+  const auto refusal = [](const char* settings) {
+    try {
+      parse_job_settings(settings);
+    } catch (const BadRequest& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  CHECK(refusal(R"({"walls": 2.5})") == "settings: 'walls' must be a whole number");
+  CHECK(refusal(R"({"segment_planes": 50})") == "settings: 'segment_planes' must be between 1 and 20");
+  CHECK(refusal(R"({"rho": 2})") == "settings: 'rho' must be between 0.0 and 1.0");
+  CHECK(parse_job_settings(R"({"walls": 3.0})").slice.toolpaths.walls == 3);
   // The settings the CLI always had are job settings too; painted saliency comes with the model.
   CHECK(parse_job_settings(R"({"saliency": "painted"})").slice.plan.saliency ==
         salient::core::SaliencyMethod::painted);
