@@ -33,7 +33,7 @@ run: build
 	@echo "salientd: data in ./var, http://$(LISTEN) (loopback only), simulated printer 'sim'; Ctrl-C stops it"
 	@if [ -f var/api-key ]; then echo "  API key: $$(cat var/api-key)"; else echo "  API key: printed below at this first start, then kept in var/api-key"; fi
 	@echo "  submit: curl -H \"X-Api-Key: \$$(cat var/api-key)\" -F file=@$(MODELS)/stanford-bunny.obj \\"
-	@echo "            -F 'settings={\"up\": \"y\", \"height\": 40}' http://$(LISTEN)/api/v1/jobs"
+	@echo "            -F 'settings={\"up\": \"y\", \"height\": 40, \"saliency\": \"spectral\"}' http://$(LISTEN)/api/v1/jobs"
 	@echo "  print:  curl -H \"X-Api-Key: \$$(cat var/api-key)\" -d '{\"job\": \"JOB_ID\"}' http://$(LISTEN)/api/v1/printers/sim/print"
 	@echo "  or:     $(BUILD)/clients/salient submit $(MODELS)/suzanne.obj --wait --print sim   (clients/curl/*.sh too)"
 	$(BUILD)/server/salientd --data var --listen $(LISTEN)
