@@ -25,7 +25,7 @@ struct HttpServer::Impl {
   // Every few seconds, sessions whose socket is gone without a handler to notice are dropped.
   void sweep_later() {
     sweeper.expires_after(std::chrono::seconds(5));
-    sweeper.async_wait([this](beast::error_code ec) {
+    sweeper.async_wait([this](boost::system::error_code ec) {
       if (ec) return;
       std::set<std::shared_ptr<Session>> sessions;
       {
@@ -39,12 +39,12 @@ struct HttpServer::Impl {
   }
 
   void accept() {
-    acceptor.async_accept(asio::make_strand(io), [this](beast::error_code ec, tcp::socket socket) {
+    acceptor.async_accept(asio::make_strand(io), [this](boost::system::error_code ec, tcp::socket socket) {
       on_accept(ec, std::move(socket));
     });
   }
 
-  void on_accept(beast::error_code ec, tcp::socket socket) {
+  void on_accept(boost::system::error_code ec, tcp::socket socket) {
     if (ec == asio::error::operation_aborted) return;  // closed by stop()
     {
       std::lock_guard lock(shared.mutex);
@@ -54,7 +54,7 @@ struct HttpServer::Impl {
     if (backoff.count() > 0) shared.log("http accepting again");
     backoff = std::chrono::milliseconds(0);
     set_cloexec(socket.native_handle());
-    beast::error_code ignored;
+    boost::system::error_code ignored;
     socket.set_option(tcp::no_delay(true), ignored);  // a small reply must not wait 40 ms for Nagle
     const std::string address = socket.remote_endpoint(ignored).address().to_string();
     std::string why;
@@ -67,11 +67,11 @@ struct HttpServer::Impl {
 
   // Out of descriptors (or memory): the pending connection stays in the backlog; try again soon
   // rather than give up accepting for good.
-  void accept_later(beast::error_code ec) {
+  void accept_later(boost::system::error_code ec) {
     if (backoff.count() == 0) shared.log("http accept failed (" + ec.message() + "): retrying with back-off");
     backoff = std::clamp(backoff * 2, std::chrono::milliseconds(50), std::chrono::milliseconds(1000));
     retry.expires_after(backoff);
-    retry.async_wait([this](beast::error_code wait) {
+    retry.async_wait([this](boost::system::error_code wait) {
       if (!wait) accept();
     });
   }
@@ -93,7 +93,7 @@ struct HttpServer::Impl {
         shared.last_refusal_log = Clock::now();
       }
     }
-    beast::error_code ignored;
+    boost::system::error_code ignored;
     socket.non_blocking(true, ignored);
     socket.write_some(asio::buffer(reply), ignored);
     socket.shutdown(tcp::socket::shutdown_both, ignored);
@@ -113,7 +113,7 @@ HttpServer::HttpServer(HttpServerOptions options, const Router& router)
 HttpServer::~HttpServer() = default;
 
 unsigned short HttpServer::start() {
-  beast::error_code ec;
+  boost::system::error_code ec;
   const auto address = asio::ip::make_address(impl_->shared.options.address, ec);
   if (ec) throw std::runtime_error("--listen: '" + impl_->shared.options.address + "' is not an IP address");
   const tcp::endpoint endpoint(address, impl_->shared.options.port);
@@ -154,7 +154,7 @@ void HttpServer::run() {
 
 void HttpServer::stop() {
   asio::post(impl_->acceptor.get_executor(), [this] {
-    beast::error_code ec;
+    boost::system::error_code ec;
     impl_->acceptor.close(ec);
     impl_->retry.cancel();
     impl_->sweeper.cancel();

@@ -15,6 +15,8 @@
 
 namespace salient::server::http_internal {
 
+namespace beast = boost::beast;
+namespace http = beast::http;
 namespace websocket = beast::websocket;
 
 // After a response that ends the connection, what the client still sends is read and dropped for
@@ -188,7 +190,7 @@ class Session : public std::enable_shared_from_this<Session> {
       shared_.sessions.erase(shared_from_this());
     }
     if (shared_.options.on_response) shared_.options.on_response(method_, route_, 101, elapsed());
-    start_websocket(std::move(stream_), std::move(channel), shared_, std::move(slot_), parser_->release());
+    start_websocket(stream_.release_socket(), std::move(channel), shared_, std::move(slot_), request_);
   }
 
   // A request that was answered: written, then logged and counted.

@@ -1,13 +1,10 @@
-// Internal to server/http (includes Asio and Beast; never include it from outside server/http):
-// what the listener, the HTTP sessions and the WebSocket sessions share — the options, the
-// registry of live sessions (for a graceful stop) and the connection limits — and the calls
-// between the three files, so that each includes only the part of Beast it uses.
+// Internal to server/http (includes Asio; never include it from outside server/http): what the
+// listener, the HTTP sessions and the WebSocket sessions share — the options, the registry of
+// live sessions (for a graceful stop) and the connection limits — and the calls between the
+// three files. Beast stays in the .cpp files: the upgrade hands over a socket and our request.
 #pragma once
 
 #include <boost/asio/ip/tcp.hpp>
-#include <boost/beast/core/tcp_stream.hpp>
-#include <boost/beast/http/message.hpp>
-#include <boost/beast/http/string_body.hpp>
 #include <chrono>
 #include <map>
 #include <memory>
@@ -20,8 +17,6 @@
 namespace salient::server::http_internal {
 
 namespace asio = boost::asio;
-namespace beast = boost::beast;
-namespace http = beast::http;
 using tcp = asio::ip::tcp;
 using Clock = std::chrono::steady_clock;
 
@@ -89,8 +84,9 @@ void sweep_session(const std::shared_ptr<Session>& session);  // drop it if its 
 
 // ws_session.cpp: the connection upgraded, registered in shared.websockets until it closes
 // (not registered when the server is stopping).
-void start_websocket(beast::tcp_stream stream, std::shared_ptr<WebSocketChannel> channel, Shared& shared,
-                     std::shared_ptr<ConnectionSlot> slot, http::request<http::string_body> request);
+// `request` is the upgrade request as read (its headers answer the handshake).
+void start_websocket(tcp::socket socket, std::shared_ptr<WebSocketChannel> channel, Shared& shared,
+                     std::shared_ptr<ConnectionSlot> slot, const HttpRequest& request);
 void stop_websocket(const std::shared_ptr<WsSession>& session);
 
 }  // namespace salient::server::http_internal

@@ -3,12 +3,16 @@
 #include <boost/asio/post.hpp>
 #include <boost/beast/core/buffers_to_string.hpp>
 #include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/http/empty_body.hpp>
 #include <boost/beast/websocket.hpp>
 
 #include "server/http/http_shared.hpp"
 
 namespace salient::server::http_internal {
 
+namespace beast = boost::beast;
+namespace http = beast::http;
 namespace websocket = beast::websocket;
 
 class WsSession : public std::enable_shared_from_this<WsSession> {
@@ -17,7 +21,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
             std::shared_ptr<ConnectionSlot> slot)
       : ws_(std::move(stream)), channel_(std::move(channel)), shared_(shared), slot_(std::move(slot)) {}
 
-  void start(http::request<http::string_body> request) {
+  void start(http::request<http::empty_body> request) {
     beast::get_lowest_layer(ws_).expires_never();
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.set_option(websocket::stream_base::decorator(
@@ -97,15 +101,19 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   bool open_ = false, writing_ = false, closing_ = false, finished_ = false;
 };
 
-void start_websocket(beast::tcp_stream stream, std::shared_ptr<WebSocketChannel> channel, Shared& shared,
-                     std::shared_ptr<ConnectionSlot> slot, http::request<http::string_body> request) {
-  auto ws = std::make_shared<WsSession>(std::move(stream), std::move(channel), shared, std::move(slot));
+void start_websocket(tcp::socket socket, std::shared_ptr<WebSocketChannel> channel, Shared& shared,
+                     std::shared_ptr<ConnectionSlot> slot, const HttpRequest& request) {
+  // The handshake needs only the request's header (Upgrade, Sec-WebSocket-Key and -Version).
+  http::request<http::empty_body> header{http::verb::get, request.target, 11};
+  for (const auto& [name, value] : request.headers) header.set(name, value);
+  auto ws = std::make_shared<WsSession>(beast::tcp_stream(std::move(socket)), std::move(channel), shared,
+                                        std::move(slot));
   {
     std::lock_guard lock(shared.mutex);
     if (shared.stopping) return;
     shared.websockets.insert(ws);
   }
-  ws->start(std::move(request));
+  ws->start(std::move(header));
 }
 
 void stop_websocket(const std::shared_ptr<WsSession>& session) {

@@ -21,7 +21,11 @@ TEST_CASE("the core's phases map onto the job's, each in its span of the whole j
   CHECK(planner->phase == JobPhase::plan);
   CHECK(planner->overall == doctest::Approx(0.5));
   CHECK(at("gcode", 1)->overall == doctest::Approx(1));
-  CHECK(to_string(at("toolpaths", 0)->phase) == "toolpaths");
+  CHECK(at("toolpaths", 0) == std::nullopt);  // never back within a phase
+  JobProgress fresh;
+  const auto first = fresh.report("toolpaths", 0, t);
+  REQUIRE(first);
+  CHECK(to_string(first->phase) == "toolpaths");
 }
 
 TEST_CASE("orient takes the first 30 % and under SegOpt its planners' reports are hidden") {
