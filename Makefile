@@ -15,6 +15,10 @@ MODELS ?= $(abspath ../shared/models)
 FUZZ_SECONDS ?= 180
 FUZZ_TARGET ?= mesh_reader_fuzz
 CMAKE_FLAGS ?=
+# Left out of the sanitizer run: three saliency properties over the large shared meshes (~12 min
+# of the run's CPU under ASan, Eigen/Spectra arithmetic that the smaller saliency tests and the
+# daemon's spectral jobs run through the same code paths). The release run keeps them.
+SANITIZE_SKIP ?= core_saliency_tests:(a 500-face and a 270k-face mesh both work|saliency is invariant to rigid motion|saliency values are in)
 
 .PHONY: deps build run test test-sanitize fuzz bench format format-check clean
 
@@ -46,7 +50,7 @@ test-sanitize: deps
 	  "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DSALIENT_BENCH=OFF $(CMAKE_FLAGS)
 	cmake --build $(BUILD_ASAN) -j $(JOBS)
 	cd $(BUILD_ASAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
-	  ctest --output-on-failure --no-tests=error -j $(JOBS)
+	  ctest --output-on-failure --no-tests=error -j $(JOBS) -E '$(SANITIZE_SKIP)'
 
 fuzz: deps
 	CC=clang CXX=clang++ cmake -S . -B $(BUILD_FUZZ) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
