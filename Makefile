@@ -1,7 +1,8 @@
 # salient: the two commands a newcomer needs are `make run` and `make test`.
 #   make run            install missing Debian packages, build, start salientd (data in ./var)
 #   make test           install, build (Release), run the whole test suite
-#   make test-sanitize  the same suite under AddressSanitizer + UndefinedBehaviorSanitizer
+#   make test-sanitize  the suite under AddressSanitizer + UndefinedBehaviorSanitizer (less SANITIZE_SKIP)
+#   make format-check   every C++ file as .clang-format writes it (CI's first step); make format applies it
 #   make fuzz           libFuzzer (clang) on FUZZ_TARGET (mesh_reader_fuzz, gcode_fuzz, toolpath_fuzz, line_codec_fuzz,
 #                       marlin_session_fuzz, sim_firmware_fuzz, http_request_fuzz, multipart_fuzz, settings_fuzz,
 #                       ws_message_fuzz, config_fuzz, gcode_upload_fuzz)
