@@ -18,6 +18,8 @@ build_packages=(
   curl python3 procps util-linux
   # the plan-format test validates every plan writer's output against docs/plan.schema.json
   python3-jsonschema
+  # the judge of our x3g files and of the Replicator profile's moves (GPX; also installs s3gdump)
+  gpx
   # `make format-check`, which CI runs: the one formatter version the tree is written with
   clang-format
 )
