@@ -5,6 +5,7 @@
 #include <string>
 
 #include "protocol/s3g/packet.hpp"
+#include "protocol/s3g/x3g_program.hpp"
 
 using namespace salient::protocol::s3g;
 
@@ -62,4 +63,21 @@ TEST_CASE("bytes that are not whole known actions are refused with their offset"
   CHECK_NOTHROW(split_x3g(build_start(std::string(26, 'n'))));  // exactly 32
   CHECK(action_length(point().substr(0, 31)) == std::nullopt);
   CHECK(action_length(point()) == 32u);
+}
+
+TEST_CASE("an x3g program maps its actions to commands, and resumes at a command's first action") {
+  X3gProgram p;
+  p.actions = {point(), point(), point(), point()};
+  p.source = {0, 2, 2, 5};
+  p.commands = 7;
+  CHECK(p.command_of(2) == 2);
+  CHECK(p.first_action_of(0) == 0);
+  CHECK(p.first_action_of(1) == 1);
+  CHECK(p.first_action_of(3) == 3);
+  CHECK(p.first_action_of(6) == 4);
+  const X3gProgram f = X3gProgram::from_x3g(p.bytes());
+  CHECK(f.actions == p.actions);
+  CHECK(f.commands == 4);
+  CHECK(f.command_of(3) == 3);
+  CHECK(f.first_action_of(9) == 4);
 }
