@@ -38,7 +38,8 @@ std::string tool_action(ToolCommand c, std::int16_t value) {
 }
 
 constexpr ToolCommand kTemperatureQueries[4] = {ToolCommand::get_temperature, ToolCommand::target_temperature,
-                                                ToolCommand::platform_temperature, ToolCommand::platform_target};
+                                                ToolCommand::platform_temperature,
+                                                ToolCommand::platform_target};
 
 std::string seconds(Millis m) {
   return std::to_string(m.count() / 1000) + "." + std::to_string(m.count() % 1000 / 100) + " s";
@@ -49,7 +50,8 @@ std::string seconds(Millis m) {
 S3gSession::S3gSession(SessionConfig config) : config_(config) {}
 
 std::vector<std::string> S3gSession::heaters_off() {
-  return {tool_action(ToolCommand::set_temperature, 0), tool_action(ToolCommand::set_platform_temperature, 0)};
+  return {tool_action(ToolCommand::set_temperature, 0),
+          tool_action(ToolCommand::set_platform_temperature, 0)};
 }
 
 std::vector<std::string> S3gSession::cancel_cleanup() {
@@ -63,7 +65,8 @@ void S3gSession::handshake(Millis now) {
   handshake_done_ = false;
   heard(now);
   control_.push_back({with_host_version(Query::version, config_.host_version), Purpose::version});
-  control_.push_back({with_host_version(Query::advanced_version, config_.host_version), Purpose::advanced_version});
+  control_.push_back(
+      {with_host_version(Query::advanced_version, config_.host_version), Purpose::advanced_version});
   pump(now);
 }
 
@@ -72,9 +75,11 @@ void S3gSession::begin(std::shared_ptr<const X3gProgram> program, Millis now, st
   program_ = program ? std::move(program) : std::make_shared<const X3gProgram>();
   for (const std::string& a : prelude)
     if (a.empty() || a.size() > kMaxPayload || static_cast<std::uint8_t>(a[0]) < 128)
-      throw std::invalid_argument("s3g prelude: an action payload must be 1…32 bytes and start with an id ≥ 128");
+      throw std::invalid_argument(
+          "s3g prelude: an action payload must be 1…32 bytes and start with an id ≥ 128");
   prelude_ = std::move(prelude);
   state_ = SessionState::printing;
+  began_ = true;
   resume_from_ = std::min(resume_from, program_->commands);
   done_ = resume_from_;
   start_action_ = next_action_ = program_->first_action_of(resume_from_);
@@ -184,8 +189,11 @@ std::optional<S3gSession::Packet> S3gSession::next_packet(Millis now) {
     if (stats_fresh_ && (!toggled_at_ || now >= *toggled_at_ + config_.pause_confirm)) {
       if (toggles_ >= config_.max_toggles) {
         const bool wanted = *want_paused_;
-        events_.push_back({SessionEvent::Kind::error, done_,
-                           wanted ? "the printer did not confirm the pause" : "the printer did not confirm the resume", {}});
+        events_.push_back(
+            {SessionEvent::Kind::error,
+             done_,
+             wanted ? "the printer did not confirm the pause" : "the printer did not confirm the resume",
+             {}});
         want_paused_.reset();
         state_ = board_paused_ ? SessionState::paused : SessionState::printing;
       } else {
@@ -253,7 +261,7 @@ void S3gSession::on_tick(Millis now) {
     on_garbled(now, "no reply");
   }
   check_silence(now);
-  if (!printing_phase() && !ending_ && !in_flight_ && control_.empty() && !handshaking_ &&
+  if (!began_ && !ending_ && !in_flight_ && control_.empty() && !handshaking_ &&
       (!last_poll_ || now - *last_poll_ >= config_.idle_poll)) {
     last_poll_ = now;
     for (ToolCommand c : kTemperatureQueries) control_.push_back({tool_query(c), Purpose::temperature});
@@ -264,7 +272,8 @@ void S3gSession::on_tick(Millis now) {
 void S3gSession::check_silence(Millis now) {
   if (printing_phase() || ending_) {
     if (!(in_flight_ || quiet_) || now - last_heard_ < config_.silence_limit) return;
-    const std::string why = "the printer stopped answering (nothing heard for " + seconds(now - last_heard_) + ")";
+    const std::string why =
+        "the printer stopped answering (nothing heard for " + seconds(now - last_heard_) + ")";
     if (ending_) {
       control_.clear(), in_flight_ = false, quiet_ = false, ending_ = false;
       events_.push_back({SessionEvent::Kind::cancelled, done_, why, {}});
@@ -276,8 +285,10 @@ void S3gSession::check_silence(Millis now) {
   }
   if (!lost_ && last_poll_ && now - last_heard_ >= config_.idle_silence_limit) {
     lost_ = true;
-    events_.push_back({SessionEvent::Kind::timeout, 0,
-                       "the printer stopped answering (nothing heard for " + seconds(now - last_heard_) + ")", {}});
+    events_.push_back({SessionEvent::Kind::timeout,
+                       0,
+                       "the printer stopped answering (nothing heard for " + seconds(now - last_heard_) + ")",
+                       {}});
   }
 }
 
@@ -402,7 +413,8 @@ void S3gSession::on_accept(const Packet& p, std::string_view data, Millis now) {
     case Purpose::action:
       if (p.counted && printing_phase()) accept_action(p);
       if (p.counted && state_ == SessionState::printing && next_action_ >= program_->actions.size())
-        next_stats_ = std::min(next_stats_, now + config_.pause_check);  // soon: has the board started it all?
+        next_stats_ =
+            std::min(next_stats_, now + config_.pause_check);  // soon: has the board started it all?
       return;
     case Purpose::version:
       firmware_version_ = get_u16(data, at);
@@ -411,8 +423,10 @@ void S3gSession::on_accept(const Packet& p, std::string_view data, Millis now) {
       firmware_version_ = get_u16(data, at);
       get_u16(data, at);
       variant_ = get_u8(data, at);
-      const std::string v = std::to_string(firmware_version_ / 100) + "." + std::to_string(firmware_version_ % 100);
-      firmware_name_ = variant_ == 0x80 ? "Sailfish " + v : "s3g firmware " + v + " (variant " + std::to_string(variant_) + ")";
+      const std::string v =
+          std::to_string(firmware_version_ / 100) + "." + std::to_string(firmware_version_ % 100);
+      firmware_name_ = variant_ == 0x80 ? "Sailfish " + v
+                                        : "s3g firmware " + v + " (variant " + std::to_string(variant_) + ")";
       handshaking_ = false, handshake_done_ = true;
       events_.push_back({SessionEvent::Kind::firmware, 0, firmware_name_, {}});
       return;
@@ -508,13 +522,15 @@ void S3gSession::on_stats(const BuildStats& s, Millis now) {
   while (!accepted_sizes_.empty() && accepted_base_ < started) accepted_sizes_.pop_front(), ++accepted_base_;
   const std::size_t doubt = snapshot_ && snapshot_->doubtful ? 1 : 0;
   if (started > accepted_count_ + doubt) {
-    fail("the printer ran " + std::to_string(started) + " actions but only " + std::to_string(accepted_count_) +
-         " were sent: is another host sending?");
+    fail("the printer ran " + std::to_string(started) + " actions but only " +
+         std::to_string(accepted_count_) + " were sent: is another host sending?");
     return;
   }
   if (want_paused_) {
     const bool paused = s.state == BuildStats::paused;
-    const bool settled = *want_paused_ ? paused : !paused && (s.state == BuildStats::running || s.state == state_before_pause_);
+    const bool settled = *want_paused_
+                             ? paused
+                             : !paused && (s.state == BuildStats::running || s.state == state_before_pause_);
     if (settled) {
       board_paused_ = paused;
       state_ = paused ? SessionState::paused : SessionState::printing;
@@ -537,7 +553,8 @@ void S3gSession::resolve(Millis now) {
   if (!have_baseline_) {
     if (occupancy != 0) {  // a previous print is still running out: wait for an empty ring
       if (snap.attempts == 0)
-        events_.push_back({SessionEvent::Kind::error, done_, "the printer's buffer is not empty: waiting for it", {}});
+        events_.push_back(
+            {SessionEvent::Kind::error, done_, "the printer's buffer is not empty: waiting for it", {}});
       snapshot_ = Snapshot{};
       snapshot_->attempts = 1;
       next_room_poll_ = now + config_.buffer_poll;
@@ -548,13 +565,15 @@ void S3gSession::resolve(Millis now) {
     return;
   }
   const std::size_t started = snap.l1 - line_base_;
-  const std::size_t expected = std::accumulate(accepted_sizes_.begin(), accepted_sizes_.end(), std::size_t{0});
+  const std::size_t expected =
+      std::accumulate(accepted_sizes_.begin(), accepted_sizes_.end(), std::size_t{0});
   if (snap.doubtful) {
     const std::size_t size = snap.doubtful->payload.size();
     if (started == accepted_count_ + 1 || occupancy == expected + size) {
       ++doubts_queued_;
       accept_action(*snap.doubtful);
-      while (!accepted_sizes_.empty() && accepted_base_ < started) accepted_sizes_.pop_front(), ++accepted_base_;
+      while (!accepted_sizes_.empty() && accepted_base_ < started)
+        accepted_sizes_.pop_front(), ++accepted_base_;
       if (state_ == SessionState::printing && next_action_ >= program_->actions.size())
         next_stats_ = std::min(next_stats_, now + config_.pause_check);
       return;
@@ -573,8 +592,8 @@ void S3gSession::resolve(Millis now) {
     return;
   }
   if (++snap.attempts > config_.snapshot_attempts) {
-    fail("the printer's buffer holds " + std::to_string(occupancy) + " bytes where " + std::to_string(expected) +
-         " were expected: cannot tell what it queued");
+    fail("the printer's buffer holds " + std::to_string(occupancy) + " bytes where " +
+         std::to_string(expected) + " were expected: cannot tell what it queued");
     return;
   }
   snap.step = 0;

@@ -14,7 +14,7 @@
 // without the doubtful action. Occupancy below what is known queued, or `line` going backwards,
 // means the board reset: the print fails, resumable from the commands whose actions all started.
 //
-// Between prints (no begin) it listens: handshake() asks the version (0) and the advanced version
+// A session that never began a print listens: handshake() asks the version (0) and the advanced version
 // (27: variant 0x80 is Sailfish); on_tick polls temperatures; silence becomes a timeout event.
 #pragma once
 
@@ -45,11 +45,11 @@ struct SessionConfig {
   // Nothing heard for this long while a packet waits: the board is gone, the print fails
   // (resumable from what was confirmed).
   Millis silence_limit{10000};
-  Millis buffer_poll{100};       // query 2 while an action waits for room (82)
-  Millis stats_poll{1000};       // build stats (24) while printing
+  Millis buffer_poll{100};        // query 2 while an action waits for room (82)
+  Millis stats_poll{1000};        // build stats (24) while printing
   Millis temperature_poll{2000};  // the four temperature queries (10) while printing
-  Millis pause_check{200};       // build stats while a pause or resume is unconfirmed
-  Millis pause_confirm{3000};    // a toggle not confirmed by then is checked and sent again
+  Millis pause_check{200};        // build stats while a pause or resume is unconfirmed
+  Millis pause_confirm{3000};     // a toggle not confirmed by then is checked and sent again
   int max_toggles = 3;
   Millis idle_poll{2000};
   Millis idle_silence_limit{15000};
@@ -86,7 +86,14 @@ struct SessionEvent {
 
 // Build stats (query 24), per the protocol's layout.
 struct BuildStats {
-  enum State : std::uint8_t { none = 0, running = 1, finished = 2, paused = 3, cancelled = 4, cancelling = 5 };
+  enum State : std::uint8_t {
+    none = 0,
+    running = 1,
+    finished = 2,
+    paused = 3,
+    cancelled = 4,
+    cancelling = 5
+  };
   std::uint8_t state = none, hours = 0, minutes = 0;
   std::uint32_t line = 0;  // actions the board has started since power-on
 };
@@ -187,11 +194,11 @@ class S3gSession {
   std::shared_ptr<const X3gProgram> program_;
   std::vector<std::string> prelude_;
   std::size_t prelude_next_ = 0, start_action_ = 0, next_action_ = 0, resume_from_ = 0;
-  std::optional<Packet> current_;      // the action being sent (not yet accepted)
-  std::optional<Packet> retry_;        // a packet to send again, first
-  std::deque<Packet> control_;         // host packets (handshake, abort, cleanup): before the print
-  std::optional<Snapshot> snapshot_;   // a doubt being resolved (or a begin's baseline)
-  bool need_room_ = false;             // current_ got 82: poll query 2 until it fits
+  std::optional<Packet> current_;     // the action being sent (not yet accepted)
+  std::optional<Packet> retry_;       // a packet to send again, first
+  std::deque<Packet> control_;        // host packets (handshake, abort, cleanup): before the print
+  std::optional<Snapshot> snapshot_;  // a doubt being resolved (or a begin's baseline)
+  bool need_room_ = false;            // current_ got 82: poll query 2 until it fits
   Millis next_room_poll_{0};
   // Ring accounting: actions accepted in order (their sizes), the first at sequence accepted_base_.
   std::deque<std::size_t> accepted_sizes_;
@@ -216,6 +223,7 @@ class S3gSession {
   std::optional<Millis> toggled_at_;
   int toggles_ = 0;
   std::uint8_t state_before_pause_ = BuildStats::running;
+  bool began_ = false;   // a print session: it does not go on listening when the print ends
   bool ending_ = false;  // cancel: drain control_, then cancelled
   bool finishing_ = false;
   // Handshake and listening.

@@ -75,7 +75,8 @@ FirmwareInfo S3gLink::handshake() {
       if (!bytes.empty()) session.on_receive(bytes, since_start());
       session.on_tick(since_start());
     }
-    if (request_.load() == kInterrupt) throw LinkError(transport_->describe() + ": connecting was interrupted");
+    if (request_.load() == kInterrupt)
+      throw LinkError(transport_->describe() + ": connecting was interrupted");
     if (!session.handshake_done()) continue;
     firmware_ = FirmwareInfo{};
     firmware_.name = session.firmware_name();
@@ -140,7 +141,8 @@ PrintResult S3gLink::print(std::shared_ptr<const Program> program, const LinkEve
 PrintResult S3gLink::print_x3g(std::shared_ptr<const s3g::X3gProgram> program, const LinkEventFn& on_event,
                                std::size_t resume_from) {
   std::vector<std::string> prelude;
-  if (program && resume_from > 0 && config_.resume_prelude) prelude = config_.resume_prelude(*program, resume_from);
+  if (program && resume_from > 0 && config_.resume_prelude)
+    prelude = config_.resume_prelude(*program, resume_from);
   return print_x3g(std::move(program), on_event, resume_from, std::move(prelude));
 }
 
@@ -203,13 +205,15 @@ PrintResult S3gLink::print_x3g(std::shared_ptr<const s3g::X3gProgram> program, c
       if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
       for (const s3g::SessionEvent& e : session.take_events()) {
         using K = s3g::SessionEvent::Kind;
-        if ((e.kind == K::failed || (e.kind == K::cancelled && e.text != "cancelled")) && result.reason.empty())
+        if ((e.kind == K::failed || (e.kind == K::cancelled && e.text != "cancelled")) &&
+            result.reason.empty())
           result.reason = e.text;
         if (!on_event) continue;
         if (auto out = to_link_event(e)) on_event(*out);
       }
       const SessionState s = session.state();
-      if (s == SessionState::finished || s == SessionState::failed || (s == SessionState::cancelled && session.idle()))
+      if (s == SessionState::finished || s == SessionState::failed ||
+          (s == SessionState::cancelled && session.idle()))
         return finish();
       const Millis left = std::clamp(session.deadline() - now(), Millis(0), Millis(50));
       const std::string bytes = transport_->read(std::chrono::duration_cast<std::chrono::microseconds>(left));

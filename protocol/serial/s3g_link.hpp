@@ -28,7 +28,8 @@ struct S3gLinkConfig {
   std::function<std::vector<std::string>(const s3g::X3gProgram&, std::size_t resume_from)> resume_prelude;
   std::chrono::milliseconds handshake_timeout{2000};  // per attempt
   int handshake_attempts = 3;
-  std::chrono::milliseconds interrupt_wait{2000};  // interrupt(): the longest wait for its heaters-off actions
+  std::chrono::milliseconds interrupt_wait{
+      2000};  // interrupt(): the longest wait for its heaters-off actions
 };
 
 class S3gLink : public PrinterLink {
