@@ -217,7 +217,8 @@ std::optional<S3gSession::Packet> S3gSession::next_packet(Millis now) {
   if (temp_step_ < 4) return Packet{tool_query(kTemperatureQueries[temp_step_++]), Purpose::temperature};
   if (need_room_) {
     if (now < next_room_poll_) return std::nullopt;
-    next_room_poll_ = now + config_.buffer_poll;
+    next_room_poll_ =
+        now + (room_polls_++ < config_.fast_polls ? config_.buffer_poll_fast : config_.buffer_poll);
     return Packet{query(Query::buffer_space), Purpose::buffer_space};
   }
   if (state_ != SessionState::printing || current_ || !have_baseline_) return std::nullopt;
@@ -372,7 +373,7 @@ void S3gSession::on_reply(std::string_view payload, Millis now) {
     case ReplyAction::wait_resend:
       if (p.purpose == Purpose::action && p.counted) {
         need_room_ = true;
-        next_room_poll_ = now;
+        next_room_poll_ = now, room_polls_ = 0;
       } else {
         retry(std::move(p), now);
       }

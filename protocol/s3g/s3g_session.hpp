@@ -45,7 +45,11 @@ struct SessionConfig {
   // Nothing heard for this long while a packet waits: the board is gone, the print fails
   // (resumable from what was confirmed).
   Millis silence_limit{10000};
-  Millis buffer_poll{100};        // query 2 while an action waits for room (82)
+  // Query 2 while an action waits for room (82): quickly at first (a move or two runs out in
+  // tens of ms), then at a slower pace (a heating wait may hold the ring for minutes).
+  Millis buffer_poll_fast{10};
+  int fast_polls = 20;
+  Millis buffer_poll{100};
   Millis stats_poll{1000};        // build stats (24) while printing
   Millis temperature_poll{2000};  // the four temperature queries (10) while printing
   Millis pause_check{200};        // build stats while a pause or resume is unconfirmed
@@ -200,6 +204,7 @@ class S3gSession {
   std::optional<Snapshot> snapshot_;  // a doubt being resolved (or a begin's baseline)
   bool need_room_ = false;            // current_ got 82: poll query 2 until it fits
   Millis next_room_poll_{0};
+  int room_polls_ = 0;
   // Ring accounting: actions accepted in order (their sizes), the first at sequence accepted_base_.
   std::deque<std::size_t> accepted_sizes_;
   std::size_t accepted_base_ = 0, accepted_count_ = 0;
