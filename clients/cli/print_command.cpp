@@ -186,8 +186,7 @@ int print_s3g(const PrintOptions& o, unsigned baud, bool timeout_given) {
     try {
       program = std::make_shared<const s3g::X3gProgram>(s3g::X3gProgram::from_x3g(bytes));
     } catch (const s3g::X3gError& e) {
-      throw core::InputError(name, {},
-                             "not an x3g file at byte " + std::to_string(e.offset) + ": " + e.what());
+      throw core::InputError(name, {}, std::string("not an x3g file: ") + e.what());
     }
   } else {
     if (!config.translate)
