@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "protocol/s3g/packet.hpp"
+#include "protocol/s3g/resume_prelude.hpp"
 
 namespace salient::protocol::serial {
 namespace {
