@@ -174,6 +174,7 @@ std::optional<S3gSession::Packet> S3gSession::next_packet(Millis now) {
     return p;
   }
   if (!control_.empty()) {
+    if (now < control_not_before_) return std::nullopt;
     Packet p = std::move(control_.front());
     control_.pop_front();
     return p;
@@ -374,6 +375,9 @@ void S3gSession::on_reply(std::string_view payload, Millis now) {
       if (p.purpose == Purpose::action && p.counted) {
         need_room_ = true;
         next_room_poll_ = now, room_polls_ = 0;
+      } else if (p.purpose == Purpose::action) {  // cleanup behind a full ring: try again shortly
+        control_.push_front(std::move(p));
+        control_not_before_ = now + config_.buffer_poll;
       } else {
         retry(std::move(p), now);
       }
@@ -608,6 +612,11 @@ void S3gSession::reset_detected() {
 }
 
 void S3gSession::fail(const std::string& why) {
+  if (ending_) {  // a cancel that could not finish is still a cancel, with the reason
+    ending_ = false;
+    end(SessionState::cancelled, why);
+    return;
+  }
   end(SessionState::failed, why);
 }
 
@@ -632,6 +641,7 @@ std::vector<SessionEvent> S3gSession::take_events() {
 Millis S3gSession::deadline() const {
   Millis d = Millis::max();
   if (in_flight_) return reply_deadline_;
+  if (!control_.empty()) d = std::min(d, control_not_before_);
   if (quiet_) d = std::min(d, quiet_until_);
   if (printing_phase()) {
     d = std::min({d, next_stats_, next_temps_});

@@ -198,9 +198,11 @@ class S3gSession {
   std::shared_ptr<const X3gProgram> program_;
   std::vector<std::string> prelude_;
   std::size_t prelude_next_ = 0, start_action_ = 0, next_action_ = 0, resume_from_ = 0;
-  std::optional<Packet> current_;     // the action being sent (not yet accepted)
-  std::optional<Packet> retry_;       // a packet to send again, first
-  std::deque<Packet> control_;        // host packets (handshake, abort, cleanup): before the print
+  std::optional<Packet> current_;  // the action being sent (not yet accepted)
+  std::optional<Packet> retry_;    // a packet to send again, first
+  std::deque<Packet> control_;
+  Millis control_not_before_{0};      // a cleanup action refused (82) waits for room        // host packets
+                                      // (handshake, abort, cleanup): before the print
   std::optional<Snapshot> snapshot_;  // a doubt being resolved (or a begin's baseline)
   bool need_room_ = false;            // current_ got 82: poll query 2 until it fits
   Millis next_room_poll_{0};

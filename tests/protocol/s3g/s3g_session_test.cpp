@@ -732,3 +732,30 @@ TEST_CASE("random faults both ways: every action runs exactly once, in order") {
     CHECK(s.packets_resent() > 10);
   }
 }
+
+TEST_CASE("interrupt behind a full ring: the heaters-off actions wait for room, what was acked still runs") {
+  S3gSession s;
+  Board b;
+  b.action_time = Millis(100);
+  auto p = make_program(200);
+  Wire w{s, b};
+  s.begin(p, Millis(0));
+  w.until([&] { return s.commands_done() >= 40 && b.used() > 480; });
+  s.cancel(S3gSession::heaters_off(), w.t, false);
+  std::vector<SessionEvent> ev;
+  w.finish();
+  events_of(ev, s);
+  CHECK(s.state() == SessionState::cancelled);
+  CHECK(ev.back().kind == SessionEvent::Kind::cancelled);
+  CHECK(ev.back().text == "cancelled");
+  b.advance(w.t + Millis(100000));
+  // Every action acked ran, then the heaters went off: the print resumes from commands_done().
+  REQUIRE(b.executed.size() >= 2);
+  CHECK(b.executed[b.executed.size() - 2] == std::string("\x88\x00\x03\x02\x00\x00", 6));
+  CHECK(b.executed.back() == std::string("\x88\x00\x1F\x02\x00\x00", 6));
+  const std::size_t ran = b.executed.size() - 2;
+  CHECK(std::vector<std::string>(b.executed.begin(), b.executed.begin() + static_cast<long>(ran)) ==
+        std::vector<std::string>(p->actions.begin(), p->actions.begin() + static_cast<long>(ran)));
+  CHECK(p->first_action_of(s.commands_done()) <= ran);
+  CHECK(s.commands_done() == p->command_of(ran));
+}
