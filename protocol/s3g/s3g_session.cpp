@@ -252,6 +252,8 @@ void S3gSession::on_receive(std::string_view bytes, Millis now) {
       on_garbled(now, r.error == PacketDecoder::Error::bad_crc ? "bad CRC" : "bad length");
     }
   }
+  // A reply comes as one burst: bytes that made none by byte_timeout after the last were noise.
+  if (in_flight_) reply_deadline_ = std::min(reply_deadline_, now + config_.byte_timeout);
   if (in_flight_ && decoder_.in_packet()) reply_deadline_ = now + config_.byte_timeout;
   pump(now);
 }
@@ -358,7 +360,11 @@ void S3gSession::on_reply(std::string_view payload, Millis now) {
     return;
   }
   const std::string name(reply_name(code));
-  switch (action_of(code)) {
+  ReplyAction act = action_of(code);
+  // Our packets are never longer than 32 bytes: "too big" means noise hit the length byte.
+  if (static_cast<Reply>(code) == Reply::packet_too_big && p.payload.size() <= kMaxPayload)
+    act = ReplyAction::resend;
+  switch (act) {
     case ReplyAction::accept:
       try {
         on_accept(p, payload.substr(1), now);
@@ -369,6 +375,27 @@ void S3gSession::on_reply(std::string_view payload, Millis now) {
       return;
     case ReplyAction::resend:
       if (!printing_phase() && !ending_ && p.purpose == Purpose::temperature) return;
+      if (p.purpose == Purpose::pause_toggle) {  // the reply may be a stray's: build stats decide
+        stats_fresh_ = false;
+        quiet_ = true, quiet_until_ = now + config_.quiet_gap;
+        return;
+      }
+      if (p.purpose == Purpose::action && p.counted && printing_phase() && have_baseline_) {
+        // Noise that hit a packet's length leaves stray bytes, each answered 80, and one of
+        // them may be taken for this packet's reply: the ring says whether it was queued.
+        ++p.tries, ++resent_;
+        events_.push_back({SessionEvent::Kind::resend, done_, {}, {}});
+        if (p.tries > config_.max_resends) {
+          fail("no packet got through after " + std::to_string(config_.max_resends) + " resends (" + name +
+               ")");
+          return;
+        }
+        quiet_ = true, quiet_until_ = now + config_.quiet_gap;
+        snapshot_ = Snapshot{};
+        snapshot_->doubtful = std::move(p);
+        snapshot_->after_error = true;
+        return;
+      }
       retry(std::move(p), now);
       return;
     case ReplyAction::wait_resend:
@@ -584,8 +611,7 @@ void S3gSession::resolve(Millis now) {
       return;
     }
     if (occupancy == expected) {
-      ++doubts_not_queued_;
-      ++resent_;
+      if (!snap.after_error) ++doubts_not_queued_, ++resent_;
       retry_ = std::move(snap.doubtful);  // the board never took it: this is its first run
       return;
     }

@@ -39,8 +39,8 @@ enum class SessionState { idle, printing, paused, finished, failed, cancelled };
 
 struct SessionConfig {
   Millis reply_timeout{1000};  // for a reply's first byte (pyS3g and GPX use 1 s)
-  Millis byte_timeout{100};    // between the bytes of one reply
-  Millis quiet_gap{20};        // after a doubt, the line must be quiet this long before we send
+  Millis byte_timeout{100};    // between the bytes of one reply, and after bytes that made none
+  Millis quiet_gap{5};         // after a doubt, the line must be quiet this long before we send
   int max_resends = 5;         // of one packet on 80/83/88/8C
   // Nothing heard for this long while a packet waits: the board is gone, the print fails
   // (resumable from what was confirmed).
@@ -173,6 +173,7 @@ class S3gSession {
     std::uint32_t l1 = 0, free = 0;
     int attempts = 0;
     std::optional<Packet> doubtful;  // the action whose reply was lost
+    bool after_error = false;        // its reply asked for a resend (counted already)
   };
 
   void send(Packet p, Millis now);

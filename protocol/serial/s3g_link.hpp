@@ -19,6 +19,13 @@
 
 namespace salient::protocol::serial {
 
+using protocol::FirmwareInfo;
+using protocol::LinkEvent;
+using protocol::LinkEventFn;
+using protocol::PrintEnd;
+using protocol::PrinterLink;
+using protocol::PrintResult;
+
 struct S3gLinkConfig {
   s3g::SessionConfig session;
   // G-code → x3g for print(Program): the caller provides the translator (empty: print() fails
