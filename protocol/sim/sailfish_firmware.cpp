@@ -168,13 +168,15 @@ std::string SailfishFirmware::answer(const std::string& payload, Micros now) {
 // Host.cc's processCommandPacket: queued whole when it fits, never looked at.
 std::string SailfishFirmware::queue_action(const std::string& payload) {
   const bool fits = payload.size() <= config_.ring_bytes - ring_.size();
-  if (fits && storm_left_ == 0 && chance(config_.faults.full_storm))
+  // A storm starts only on an action that would be taken, and one that ended takes the next.
+  if (fits && storm_left_ == 0 && !storm_ended_ && chance(config_.faults.full_storm))
     storm_left_ = std::uniform_int_distribution<int>(1, 20)(rng_);
   if (!fits || storm_left_ > 0) {
-    if (fits) --storm_left_, ++stats_.storm_refusals;
+    if (fits) --storm_left_, ++stats_.storm_refusals, storm_ended_ = storm_left_ == 0;
     ++stats_.buffer_full_sent;
     return code(Reply::buffer_full);
   }
+  storm_ended_ = false;
   ring_ += payload;
   return ok();
 }
@@ -498,6 +500,7 @@ void SailfishFirmware::reset(Micros now) {
   cancel_pending_ = false;
   cancel_reset_at_ = Micros::max();
   storm_left_ = 0;
+  storm_ended_ = false;
   decoder_.reset();
   host_at_ = -1;
   in_.clear();

@@ -156,7 +156,8 @@ class SailfishFirmware {
   Micros deaf_until_{0};
   bool cancel_pending_ = false;  // the next packet gets 89
   Micros cancel_reset_at_{Micros::max()};
-  int storm_left_ = 0;
+  int storm_left_ = 0;  // full-storm: refusals left in this burst
+  bool storm_ended_ = false;
   std::vector<std::string> executed_;
   std::mt19937_64 rng_;
 };
