@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <random>
 #include <stdexcept>
 
 #include "protocol/s3g/packet.hpp"
@@ -565,4 +566,44 @@ TEST_CASE("the Sailfish fault spec refuses a bad value by name and repeats for a
   };
   CHECK(run("noise=0.1,reply-noise=0.1,seed=4") == run("noise=0.1,reply-noise=0.1,seed=4"));
   CHECK(run("noise=0.1,reply-noise=0.1,seed=4") != run("noise=0.1,reply-noise=0.1,seed=5"));
+}
+
+TEST_CASE("hostile input: random bytes and random packets never break the board") {
+  std::mt19937_64 rng(11);
+  SailfishFirmware fw(timed(0.001, 0.001));
+  Micros t{0};
+  s3g::PacketDecoder d;
+  long long replies_seen = 0;
+  for (int i = 0; i < 20000; ++i) {
+    std::string b;
+    const int kind = static_cast<int>(rng() % 4);
+    const std::size_t n = 1 + rng() % 32;
+    for (std::size_t k = 0; k < n; ++k) b += static_cast<char>(rng());
+    if (kind == 0) b[0] = static_cast<char>(0x80 | (rng() % 32));  // near the real action ids
+    if (kind == 1) b[0] = static_cast<char>(rng() % 30);           // near the real queries
+    if (kind == 3)
+      b = b.substr(0, 1 + rng() % 4);  // raw bytes, not a packet
+    else
+      b = s3g::frame(b);
+    if (kind != 3 && b[2] == 17) continue;  // a reset, deaf for a second: slows the run only
+    fw.receive(b, t);
+    t += Micros(static_cast<long long>(rng() % 5000));
+    fw.advance(t);
+    for (unsigned char c : fw.take_output(t)) {
+      const auto r = d.feed(c);
+      REQUIRE(r.error == s3g::PacketDecoder::Error::none);  // every reply is well framed
+      if (r.payload) {
+        ++replies_seen;
+        const auto first = static_cast<unsigned char>((*r.payload)[0]);
+        CHECK((first >= 0x80 && first <= 0x8C));
+      }
+    }
+    REQUIRE(fw.ring_used() <= 512);
+    REQUIRE(fw.next_wakeup() >= Micros{0});
+  }
+  CAPTURE(fw.stats().resets);
+  CAPTURE(fw.stats().bytes_ignored);
+  CAPTURE(fw.stats().packet_timeouts);
+  CHECK(replies_seen > 10000);
+  CHECK(fw.stats().packets_received > 5000);
 }
