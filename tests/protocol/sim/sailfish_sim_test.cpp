@@ -78,7 +78,7 @@ int exit_status(pid_t pid) {
 }
 
 bool have_gpx() {
-  return std::system("gpx -? >/dev/null 2>&1; command -v gpx >/dev/null 2>&1") == 0;
+  return std::system("command -v gpx >/dev/null 2>&1") == 0;
 }
 
 // A scratch directory with a small G-code file: heat, home, a few hundred moves, end.
@@ -168,12 +168,12 @@ class MinimalHost {
   }
   ~MinimalHost() { ::close(fd_); }
 
-  // The reply's payload; empty after 2 s of silence.
-  std::string exchange(const std::string& payload) {
+  // The reply's payload; empty after `limit` of silence.
+  std::string exchange(const std::string& payload, milliseconds limit = milliseconds(2000)) {
     const std::string f = s3g::frame(payload);
     REQUIRE(::write(fd_, f.data(), f.size()) == ssize_t(f.size()));
     s3g::PacketDecoder d;
-    const auto until = Clock::now() + milliseconds(2000);
+    const auto until = Clock::now() + limit;
     while (Clock::now() < until) {
       pollfd p{fd_, POLLIN, 0};
       if (::poll(&p, 1, 50) <= 0) continue;
@@ -225,7 +225,8 @@ TEST_CASE("salient-sim sailfish runs a GPX x3g streamed by a minimal host exactl
   const auto actions = s.x3g(s.gcode(300), "part");
   REQUIRE(actions.size() > 300);
   // Moves of ~60 mm at 50 mm/s take 1.2 s; at time scale 0.01, 12 ms: the ring fills at 115200 baud.
-  Sim sim(s.dir, {"--time-scale", "0.01", "--heat-time-scale", "0.001", "--baud", "115200"});
+  Sim sim(s.dir, {"--time-scale", "0.01", "--heat-time-scale", "0.001", "--baud", "115200", "--faults",
+                  "full-storm=0.02,seed=3"});
   MinimalHost host(sim.device());
   const long long full = host.stream(actions);
   wait_until_finished(host);
@@ -234,6 +235,30 @@ TEST_CASE("salient-sim sailfish runs a GPX x3g streamed by a minimal host exactl
   CHECK(sim.stat("executed") == static_cast<long long>(actions.size()));
   CHECK(full > 0);  // the ring was full at times, and the host waited
   CHECK(sim.stat("buffer_full_sent") == full);
+  CHECK(sim.stat("storm_refusals") > 0);
+  CHECK(sim.stat("storm_refusals") < full);  // and full for real, too
+}
+
+TEST_CASE("salient-sim sailfish reset-at: the board goes deaf for a second and comes back empty") {
+  Scratch s;
+  Sim sim(s.dir, {"--faults", "reset-at=2"});
+  MinimalHost host(sim.device());
+  const std::string delay = std::string("\x85\0\0\0\0", 5), stats(1, '\x18');
+  CHECK(host.exchange(delay) == std::string(1, '\x81'));
+  const std::string before = host.exchange(stats);
+  REQUIRE(before.size() == 12);
+  CHECK(before[4] == 1);                                  // line: one action started
+  CHECK(host.exchange(delay) == std::string(1, '\x81'));  // action 2: the reset follows it
+  const auto reset = Clock::now();
+  CHECK(host.exchange(stats, milliseconds(500)).empty());
+  std::this_thread::sleep_until(reset + milliseconds(1100));
+  const std::string after = host.exchange(stats);
+  REQUIRE(after.size() == 12);
+  CHECK(after[4] == 0);
+  CHECK(sim.stop() == 0);
+  CHECK(sim.log().size() == 2);
+  CHECK(sim.stat("resets") == 1);
+  CHECK(sim.stat("bytes_ignored") == 4);
 }
 
 TEST_CASE("salient-sim sailfish prints a whole file streamed by gpx -s, the peer") {
