@@ -572,9 +572,12 @@ void SailfishFirmware::advance(Micros now) {
 }
 
 // The wire's bytes are taken when the last one sent so far has arrived, not one wakeup a byte:
-// a packet is read whole, as its timeout (200 ms) is far longer than the packet (3 ms at 115200).
+// a packet is read whole (3 ms at 115200 baud), and a longer stream at least every 5 ms, which
+// keeps the 200 ms packet timeout true to a few ms.
 Micros SailfishFirmware::next_wakeup() const {
-  Micros t = std::min(in_.last_arrival(), out_.last_arrival());
+  constexpr Micros kBatch{5000};
+  Micros t = out_.last_arrival();
+  if (!in_.empty()) t = std::min({t, in_.last_arrival(), in_.next_arrival() + kBatch});
   if (state_ == State::resetting) return std::min(t, deaf_until_);
   if (state_ == State::silent) return t;
   if (decoder_.in_packet()) t = std::min(t, packet_started_ + config_.packet_timeout);
