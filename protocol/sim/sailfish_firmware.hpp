@@ -12,11 +12,14 @@
 // pause toggle; resets that leave the board deaf ~1 s; and the faults of sailfish_faults.hpp.
 //
 // Where we depart from the board (the shared host contract, which the host session relies on):
-// build stats' line counts every action started since power-on or reset (Sailfish counts queue
-// point moves since build start, and after a build reports the last build's count); the error
-// replies 80/83/84/8C are sent (Sailfish 7.7 has them commented out in Host.cc: the host sees a
-// timeout); 8B is answered to every packet after a heater fault (Sailfish first sends one 89);
-// query 3 and 7 clear without a reset (Sailfish resets after them when not building).
+// build stats' line counts every action started since power-on or reset (Command.cc counts each
+// action as it leaves the ring too, but zeroes the count at 153 build start, and Host.cc reports
+// the last build's count once a build is over); the error replies 80/83/84/8C are sent (Host.cc
+// has them commented out: a real host sees a timeout); 8B answers every packet after a heater
+// fault (Host.cc sends one 89 first); queries 3 and 7 clear without a reset (Host.cc treats 3, 7
+// and 17 alike: stop the build, or reset when not building); a wait for a button (148) is
+// pressed at once; one move runs at a time (the board's 16-move planner is not modelled: an
+// action leaves the ring as it starts).
 #pragma once
 
 #include <array>
