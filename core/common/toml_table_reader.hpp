@@ -69,6 +69,7 @@ class TableReader {
       out = *v;
     }
   }
+  bool has(const char* key) const { return table_.get(key) != nullptr; }
   const toml::table* table(const char* key) {
     const toml::node* n = find(key);
     if (!n) return nullptr;

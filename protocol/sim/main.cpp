@@ -1,4 +1,5 @@
-// salient-sim: a Marlin-like printer behind a pseudo-terminal, for tests, demos and benchmarks.
+// salient-sim: a Marlin-like printer (or, with --firmware sailfish, a Sailfish board speaking
+// s3g: sailfish_serve.cpp) behind a pseudo-terminal, for tests, demos and benchmarks.
 // Prints the device path (and links it to --link PATH), then serves until SIGINT/SIGTERM, or until
 // a disconnect fault pulls the cable. --log FILE gets every executed command, in order.
 // The faults are listed in --help (sim_faults.cpp); a bad one is an error naming it, exit status 1.
@@ -15,6 +16,7 @@
 #include <string>
 
 #include "protocol/sim/pseudo_terminal.hpp"
+#include "protocol/sim/sailfish_serve.hpp"
 #include "protocol/sim/sim_faults.hpp"
 #include "protocol/sim/sim_firmware.hpp"
 
@@ -29,9 +31,27 @@ using salient::protocol::sim::Micros;
 
 struct Options {
   salient::protocol::sim::SimConfig config;
-  std::string faults, log_path, link_path, stats_path;
+  std::string firmware = "marlin", faults, log_path, link_path, stats_path;
   int bufsize = 4;
 };
+
+// The options Sailfish shares with Marlin carry over; a Marlin-only one is an error naming it.
+int serve_sailfish(const CLI::App& app, const Options& o) {
+  for (const char* marlin_only : {"--rx-buffer", "--bufsize", "--planner-blocks", "--advanced-ok",
+                                  "--emergency-parser", "--autoreport"})
+    if (app.get_option(marlin_only)->count() > 0)
+      throw std::invalid_argument(std::string(marlin_only) +
+                                  " is a Marlin option (not with --firmware sailfish)");
+  salient::protocol::sim::SailfishServeOptions s;
+  s.config.baud = o.config.baud;
+  s.config.time_scale = o.config.time_scale;
+  s.config.heat_time_scale = o.config.heat_time_scale;
+  s.faults = o.faults;
+  s.log_path = o.log_path;
+  s.link_path = o.link_path;
+  s.stats_path = o.stats_path;
+  return salient::protocol::sim::serve_sailfish(s, &stop_requested);
+}
 
 void write_stats(const std::string& path, const salient::protocol::sim::SimStats& s, const char* end) {
   if (path.empty()) return;
@@ -130,9 +150,12 @@ int serve(Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"salient-sim: a simulated Marlin printer on a pseudo-terminal"};
+  CLI::App app{"salient-sim: a simulated Marlin printer (or Sailfish board) on a pseudo-terminal"};
   Options o;
   auto& c = o.config;
+  app.add_option("--firmware", o.firmware, "the board: marlin (G-code lines) or sailfish (s3g packets)")
+      ->check(CLI::IsMember({"marlin", "sailfish"}))
+      ->capture_default_str();
   app.add_option("--rx-buffer", c.rx_buffer_bytes, "receive buffer in bytes (Marlin RX_BUFFER_SIZE)")
       ->capture_default_str();
   app.add_option("--bufsize", o.bufsize, "command queue slots (BUFSIZE)")
@@ -151,10 +174,12 @@ int main(int argc, char** argv) {
   app.add_option(
       "--faults", o.faults,
       "what goes wrong, e.g. noise=0.02,drop-ok=0.01,silent-after=500,silent-for=30 (listed below)");
-  app.add_option("--log", o.log_path, "write every executed command to FILE");
+  app.add_option("--log", o.log_path,
+                 "write every executed command to FILE (sailfish: each action's payload in hex)");
   app.add_option("--link", o.link_path, "make PATH a symbolic link to the device");
   app.add_option("--stats", o.stats_path, "write counters as JSON to FILE on exit");
-  app.footer(std::string(salient::protocol::sim::faults_help()));
+  app.footer(std::string(salient::protocol::sim::faults_help()) + "\n" +
+             std::string(salient::protocol::sim::sailfish_faults_help()));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -166,7 +191,7 @@ int main(int argc, char** argv) {
   ::sigaction(SIGTERM, &sa, nullptr);
   ::signal(SIGPIPE, SIG_IGN);
   try {
-    return serve(o);
+    return o.firmware == "sailfish" ? serve_sailfish(app, o) : serve(o);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "salient-sim: error: %s\n", e.what());
     return 1;

@@ -40,4 +40,12 @@ Micros Wire::next_arrival() const {
       static_cast<long long>(std::ceil(c.start_us + static_cast<double>(c.taken + 1) * 1e6 / rate_)));
 }
 
+Micros Wire::last_arrival() const {
+  if (chunks_.empty()) return Micros::max();
+  const Chunk& c = chunks_.back();
+  if (rate_ <= 0) return Micros(static_cast<long long>(c.start_us));
+  return Micros(
+      static_cast<long long>(std::ceil(c.start_us + static_cast<double>(c.bytes.size()) * 1e6 / rate_)));
+}
+
 }  // namespace salient::protocol::sim

@@ -18,6 +18,7 @@ class Wire {
   void push(std::string_view bytes, Micros now);
   std::string pop(Micros now);  // every byte that has arrived by `now`
   Micros next_arrival() const;  // when the next byte arrives; Micros::max() when empty
+  Micros last_arrival() const;  // when the last byte pushed so far arrives; Micros::max() when empty
   bool empty() const { return chunks_.empty(); }
   void clear() {  // what was on the line is lost, and the line is free at once
     chunks_.clear();

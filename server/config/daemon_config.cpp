@@ -1,10 +1,13 @@
 #include "server/config/daemon_config.hpp"
 
+#include <filesystem>
 #include <fstream>
+#include <optional>
 #include <set>
 #include <sstream>
 
 #include "core/common/toml_table_reader.hpp"
+#include "core/printer/printer_profile.hpp"
 #include "server/printers/sim_process.hpp"
 
 namespace salient::server {
@@ -12,6 +15,33 @@ namespace salient::server {
 using core::InputError;
 using core::InputLocation;
 using core::TableReader;
+
+unsigned default_baud(PrinterProtocol protocol) {
+  return protocol == PrinterProtocol::s3g ? 115200 : 250000;
+}
+
+std::string default_sim_args(PrinterProtocol protocol) {
+  if (protocol == PrinterProtocol::s3g) return "--firmware sailfish --baud 115200 --time-scale 0.05";
+  return "--advanced-ok --emergency-parser --autoreport --time-scale 0.05";
+}
+
+namespace {
+
+// The protocol a profile's G-code is written for: Sailfish's flavour is printed over s3g.
+PrinterProtocol protocol_of_profile(const std::string& profile) {
+  std::optional<core::PrinterProfile> p = core::builtin_printer(profile);
+  std::error_code ec;
+  if (!p && std::filesystem::is_regular_file(profile, ec)) {
+    try {
+      p = core::load_printer_profile(profile);
+    } catch (const InputError&) {
+      // Reported where the profile is used (slicing), with its own line numbers.
+    }
+  }
+  return p && p->flavor == core::GcodeFlavor::sailfish ? PrinterProtocol::s3g : PrinterProtocol::marlin;
+}
+
+}  // namespace
 
 DaemonConfig default_daemon_config() {
   return DaemonConfig{};
@@ -53,13 +83,16 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
       PrinterConfig p;
       TableReader r(*n.as_table(), "printers.", source);
       r.text("id", p.id);
-      std::string kind(to_string(p.kind)), protocol(to_string(p.protocol));
+      std::string kind(to_string(p.kind)), protocol;
+      std::optional<unsigned> baud;
+      std::optional<std::string> sim_args;
       r.text("kind", kind);
       r.text("port", p.port);
-      r.integer("baud", p.baud, 300, 4000000);
+      if (r.has("baud")) r.integer("baud", baud.emplace(), 300, 4000000);
       r.text("protocol", protocol);
       r.text("profile", p.profile);
-      r.text("sim_args", p.sim_args);
+      if (r.has("sim_args")) r.text("sim_args", sim_args.emplace());
+      r.text("machine", p.machine);
       r.boolean("autoconnect", p.autoconnect);
       r.reject_unknown();
       const InputLocation at = InputLocation::at_line(core::line_of(n));
@@ -74,6 +107,14 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
         throw InputError(source, at, "'printers.kind' must be sim, serial or tcp, got '" + kind + "'");
       if (p.kind != PrinterKind::sim && p.port.empty())
         throw InputError(source, at, "printer '" + p.id + "' needs a 'port'");
+      if (protocol.empty())
+        p.protocol = protocol_of_profile(p.profile);
+      else if (const auto pr = printer_protocol_from(protocol))
+        p.protocol = *pr;
+      else
+        throw InputError(source, at, "'printers.protocol' must be marlin or s3g, got '" + protocol + "'");
+      p.baud = baud.value_or(default_baud(p.protocol));
+      p.sim_args = sim_args.value_or(default_sim_args(p.protocol));
       if (p.kind == PrinterKind::sim) {
         try {
           split_args(p.sim_args);  // checked now rather than at the first connect
@@ -81,10 +122,6 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
           throw InputError(source, at, "'printers.sim_args': " + std::string(e.what()));
         }
       }
-      if (const auto pr = printer_protocol_from(protocol))
-        p.protocol = *pr;
-      else
-        throw InputError(source, at, "'printers.protocol' must be marlin (s3g comes later)");
       c.printers.push_back(std::move(p));
     }
   }

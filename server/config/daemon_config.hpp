@@ -11,16 +11,22 @@
 
 namespace salient::server {
 
+// What a protocol implies unless the config says otherwise: the line rate, and salient-sim's
+// arguments for kind = sim (Marlin 2 features on; both 20× faster than real time).
+unsigned default_baud(PrinterProtocol protocol);
+std::string default_sim_args(PrinterProtocol protocol);
+
 struct PrinterConfig {
   std::string id;
   PrinterKind kind = PrinterKind::sim;
   std::string port;  // serial: device path; tcp: HOST:PORT
-  unsigned baud = 250000;
+  // The profile's flavour decides the protocol unless it is given: Sailfish's → s3g.
   PrinterProtocol protocol = PrinterProtocol::marlin;
+  unsigned baud = default_baud(PrinterProtocol::marlin);
   std::string profile = "generic-i3";  // printer profile for slicing (built-in id or .toml path)
-  // salient-sim's arguments, for kind = sim: Marlin 2 features on, 20× faster than real time.
-  std::string sim_args = "--advanced-ok --emergency-parser --autoreport --time-scale 0.05";
-  bool autoconnect = true;  // connect when the daemon starts
+  std::string sim_args = default_sim_args(PrinterProtocol::marlin);
+  std::string machine = "r2x";  // s3g: the machine definition (steps/mm, feed limits) of the x3g
+  bool autoconnect = true;      // connect when the daemon starts
 };
 
 inline PrinterConfig sim_printer() {

@@ -14,8 +14,9 @@ constexpr core::NameTable<PrinterKind, 3> kind_names{{
     {PrinterKind::tcp, "tcp"},
 }};
 
-constexpr core::NameTable<PrinterProtocol, 1> protocol_names{{
+constexpr core::NameTable<PrinterProtocol, 2> protocol_names{{
     {PrinterProtocol::marlin, "marlin"},
+    {PrinterProtocol::s3g, "s3g"},
 }};
 
 }  // namespace

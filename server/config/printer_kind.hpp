@@ -14,7 +14,9 @@ enum class PrinterKind { sim, serial, tcp };
 std::string_view to_string(PrinterKind k);
 std::optional<PrinterKind> printer_kind_from(std::string_view s);
 
-enum class PrinterProtocol { marlin };
+// marlin: numbered G-code lines; s3g: MakerBot's binary packets (Sailfish), the G-code translated
+// to x3g on the way.
+enum class PrinterProtocol { marlin, s3g };
 
 std::string_view to_string(PrinterProtocol p);
 std::optional<PrinterProtocol> printer_protocol_from(std::string_view s);

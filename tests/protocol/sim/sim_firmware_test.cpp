@@ -187,10 +187,13 @@ TEST_CASE("wire: bytes arrive at the line rate, one after another") {
   CHECK(w.pop(Micros{39}).empty());
   CHECK(w.pop(Micros{40}) == "0");
   CHECK(w.next_arrival() == Micros{80});
+  CHECK(w.last_arrival() == Micros{400});
   w.push("ab", Micros{100});  // queued behind the first ten bytes
+  CHECK(w.last_arrival() == Micros{480});
   CHECK(w.pop(Micros{400}) == "123456789");
   CHECK(w.pop(Micros{440}) == "a");
   CHECK(w.pop(Micros{10000}) == "b");
+  CHECK(w.last_arrival() == Micros::max());
   Wire fast;
   fast.push("xyz", Micros{5});
   CHECK(fast.pop(Micros{5}) == "xyz");

@@ -86,3 +86,41 @@ TEST_CASE("mistakes name the file, the line and the key") {
   CHECK_THROWS_WITH_AS(load_daemon_config("/no/such/salientd.toml"),
                        "/no/such/salientd.toml: cannot open for reading", InputError);
 }
+
+TEST_CASE("a Replicator profile's printer speaks s3g at 115200 unless told otherwise") {
+  const DaemonConfig c = parse_daemon_config(R"(
+[[printers]]
+id = "r2x"
+profile = "replicator2x"
+[[printers]]
+id = "r2x-marlin"
+profile = "replicator2x"
+protocol = "marlin"
+baud = 250000
+sim_args = "--time-scale 0"
+[[printers]]
+id = "ender"
+profile = "ender3"
+[[printers]]
+id = "forced"
+profile = "ender3"
+protocol = "s3g"
+machine = "r2"
+)",
+                                             "d.toml");
+  REQUIRE(c.printers.size() == 4);
+  CHECK(c.printers[0].protocol == PrinterProtocol::s3g);
+  CHECK(c.printers[0].baud == 115200);
+  CHECK(c.printers[0].sim_args.find("--firmware sailfish") != std::string::npos);
+  CHECK(c.printers[0].machine == "r2x");
+  CHECK(c.printers[1].protocol == PrinterProtocol::marlin);
+  CHECK(c.printers[1].baud == 250000);
+  CHECK(c.printers[1].sim_args == "--time-scale 0");
+  CHECK(c.printers[2].protocol == PrinterProtocol::marlin);
+  CHECK(c.printers[2].baud == 250000);
+  CHECK(c.printers[2].sim_args == default_sim_args(PrinterProtocol::marlin));
+  CHECK(c.printers[3].protocol == PrinterProtocol::s3g);
+  CHECK(c.printers[3].machine == "r2");
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"a\"\nprotocol = \"x3g\"\n", "d.toml"),
+                       "d.toml:1: 'printers.protocol' must be marlin or s3g, got 'x3g'", InputError);
+}
