@@ -142,8 +142,9 @@ PrintResult S3gLink::print(std::shared_ptr<const Program> program, const LinkEve
 PrintResult S3gLink::print_x3g(std::shared_ptr<const s3g::X3gProgram> program, const LinkEventFn& on_event,
                                std::size_t resume_from) {
   std::vector<std::string> prelude;
-  if (program && resume_from > 0 && config_.resume_prelude)
-    prelude = config_.resume_prelude(*program, resume_from);
+  if (program && resume_from > 0)
+    prelude = config_.resume_prelude ? config_.resume_prelude(*program, resume_from)
+                                     : s3g::resume_prelude(*program, resume_from);
   return print_x3g(std::move(program), on_event, resume_from, std::move(prelude));
 }
 
