@@ -154,6 +154,7 @@ void S3gSession::send(Packet p, Millis now) {
   in_flight_ = true;
   reply_deadline_ = now + config_.reply_timeout;
   decoder_.reset();
+  got_bytes_ = false;
 }
 
 void S3gSession::pump(Millis now) {
@@ -253,6 +254,7 @@ void S3gSession::on_receive(std::string_view bytes, Millis now) {
     }
   }
   // A reply comes as one burst: bytes that made none by byte_timeout after the last were noise.
+  if (in_flight_) got_bytes_ = true;
   if (in_flight_) reply_deadline_ = std::min(reply_deadline_, now + config_.byte_timeout);
   if (in_flight_ && decoder_.in_packet()) reply_deadline_ = now + config_.byte_timeout;
   pump(now);
@@ -262,7 +264,7 @@ void S3gSession::on_tick(Millis now) {
   if (in_flight_ && now >= reply_deadline_) {
     in_flight_ = false;
     ++timeouts_;
-    on_garbled(now, "no reply");
+    on_garbled(now, got_bytes_ ? "bytes that made no reply" : "no reply");
   }
   check_silence(now);
   if (!began_ && !ending_ && !in_flight_ && control_.empty() && !handshaking_ &&
@@ -299,11 +301,20 @@ void S3gSession::check_silence(Millis now) {
 // The reply was lost, garbled or late: what the packet did is unknown. Queries are asked again;
 // a print action is resolved from the ring before anything else goes.
 void S3gSession::on_garbled(Millis now, const char* why) {
-  (void)why;
   Packet p = std::move(*in_flight_packet_);
   in_flight_packet_.reset();
   quiet_ = true, quiet_until_ = now + config_.quiet_gap;
   decoder_.reset();
+  if (++garbled_run_ > config_.max_garbled && std::string_view(why) != "no reply") {
+    garbled_run_ = 0;
+    const std::string text = "no intelligible reply in " + std::to_string(config_.max_garbled) +
+                             " packets (last: " + why + "): is it an s3g board, at the right baud rate?";
+    if (printing_phase() || ending_) {
+      fail(text);
+      return;
+    }
+    events_.push_back({SessionEvent::Kind::error, 0, text, {}});
+  }
   if (!printing_phase() && !ending_) {
     if (p.purpose == Purpose::version || p.purpose == Purpose::advanced_version) retry_ = std::move(p);
     return;  // listening: a lost temperature goes with the next poll
@@ -368,6 +379,7 @@ void S3gSession::on_reply(std::string_view payload, Millis now) {
     case ReplyAction::accept:
       try {
         on_accept(p, payload.substr(1), now);
+        garbled_run_ = 0;
       } catch (const std::out_of_range&) {
         in_flight_packet_ = std::move(p);
         on_garbled(now, "short reply");

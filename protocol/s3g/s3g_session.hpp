@@ -59,6 +59,7 @@ struct SessionConfig {
   Millis idle_silence_limit{15000};
   std::size_t ring_bytes = 512;  // Sailfish's command buffer
   int snapshot_attempts = 20;    // for a consistent (L1, F, L2)
+  int max_garbled = 50;          // replies in a row that make no sense: the line is not s3g
   std::uint16_t host_version = 100;
 };
 
@@ -215,7 +216,7 @@ class S3gSession {
   std::uint32_t line_base_ = 0, last_line_ = 0;
   bool seen_building_ = false;
   std::optional<Packet> in_flight_packet_;
-  bool in_flight_ = false;
+  bool in_flight_ = false, got_bytes_ = false;
   Millis reply_deadline_{Millis::max()};
   PacketDecoder decoder_;
   bool quiet_ = false;  // discarding the line's bytes until quiet_until_
@@ -241,6 +242,7 @@ class S3gSession {
   std::string firmware_name_;
   bool lost_ = false;
   std::optional<Millis> last_poll_;
+  int garbled_run_ = 0;
   std::size_t done_ = 0, resent_ = 0, doubts_queued_ = 0, doubts_not_queued_ = 0, timeouts_ = 0;
   std::string output_;
   std::vector<SessionEvent> events_;

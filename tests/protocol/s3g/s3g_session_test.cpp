@@ -760,3 +760,31 @@ TEST_CASE("interrupt behind a full ring: the heaters-off actions wait for room, 
   CHECK(p->first_action_of(s.commands_done()) <= ran);
   CHECK(s.commands_done() == p->command_of(ran));
 }
+
+TEST_CASE(
+    "a line that answers garbage (random bytes, random frames) fails the print, never hangs or crashes") {
+  for (std::uint32_t seed : {11u, 12u, 13u}) {
+    for (bool framed : {false, true}) {
+      CAPTURE(seed);
+      CAPTURE(framed);
+      S3gSession s;
+      std::mt19937 rng(seed);
+      auto p = make_program(50);
+      s.begin(p, Millis(0));
+      Millis t{0};
+      for (int turn = 0; turn < 200000 && s.state() == SessionState::printing; ++turn) {
+        const std::string out = s.take_output();
+        if (!out.empty()) {
+          std::string junk(rng() % 40, '\0');
+          for (char& c : junk) c = static_cast<char>(rng());
+          if (framed) junk = frame(junk.empty() ? std::string(1, '\x81') : junk.substr(0, 32));
+          s.on_receive(junk, t);
+        }
+        t += Millis(1 + rng() % 20);
+        s.on_tick(t);
+      }
+      CHECK(s.state() != SessionState::printing);
+      CHECK(t < Millis(3600000));
+    }
+  }
+}
