@@ -1,6 +1,7 @@
 #include "protocol/s3g/x3g_actions.hpp"
 
 #include <algorithm>
+#include <initializer_list>
 
 #include "protocol/s3g/packet.hpp"
 
@@ -9,6 +10,10 @@ namespace {
 
 std::string id(std::uint8_t code) {
   return std::string(1, static_cast<char>(code));
+}
+
+std::string bytes(std::initializer_list<std::uint8_t> b) {
+  return std::string(b.begin(), b.end());
 }
 
 void put_steps(std::string& out, const std::array<std::int32_t, 5>& steps) {
@@ -94,13 +99,13 @@ std::string wait_for_platform(std::uint8_t tool, std::uint16_t poll_ms, std::uin
 }
 
 std::string store_home(std::uint8_t axes) {
-  return id(143) + id(axes);
+  return bytes({143, axes});
 }
 std::string recall_home(std::uint8_t axes) {
-  return id(144) + id(axes);
+  return bytes({144, axes});
 }
 std::string set_pot(std::uint8_t axis, std::uint8_t value) {
-  return id(145) + id(axis) + id(value);
+  return bytes({145, axis, value});
 }
 
 std::string beep(std::uint16_t hz, std::uint16_t ms) {
@@ -112,10 +117,10 @@ std::string beep(std::uint16_t hz, std::uint16_t ms) {
 }
 
 std::string build_percent(std::uint8_t percent) {
-  return id(150) + id(percent) + id(0);
+  return bytes({150, percent, 0});
 }
 std::string song(std::uint8_t song_id) {
-  return id(151) + id(song_id);
+  return bytes({151, song_id});
 }
 
 std::string build_start(std::string_view name) {
@@ -127,7 +132,7 @@ std::string build_start(std::string_view name) {
 }
 
 std::string build_end() {
-  return id(154) + id(0);
+  return bytes({154, 0});
 }
 
 std::string queue_point(const std::array<std::int32_t, 5>& steps, std::uint32_t dda_rate,
@@ -142,7 +147,7 @@ std::string queue_point(const std::array<std::int32_t, 5>& steps, std::uint32_t 
 }
 
 std::string acceleration(bool on) {
-  return id(156) + id(on ? 1 : 0);
+  return bytes({156, static_cast<std::uint8_t>(on ? 1 : 0)});
 }
 
 }  // namespace salient::protocol::s3g::actions

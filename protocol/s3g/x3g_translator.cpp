@@ -8,15 +8,15 @@
 #include <cstdlib>
 #include <string_view>
 
+#include "protocol/s3g/gcode_words.hpp"
 #include "protocol/s3g/x3g_actions.hpp"
 
 namespace salient::protocol::s3g {
 namespace {
 
-// Word flags, as gpx.h numbers them; the axis bits are also s3g's axis bits.
-constexpr unsigned kX = 0x1, kY = 0x2, kZ = 0x4, kA = 0x8, kB = 0x10, kXYZ = 0x7, kAxes = 0x1F;
-constexpr unsigned kE = 0x20, kF = 0x40, kP = 0x100, kR = 0x400, kS = 0x800, kG = 0x1000, kM = 0x2000,
-                   kT = 0x4000;
+constexpr unsigned kX = word::X, kY = word::Y, kZ = word::Z, kA = word::A, kB = word::B, kXYZ = word::XYZ,
+                   kAxes = word::AXES, kE = word::E, kF = word::F, kP = word::P, kR = word::R, kS = word::S,
+                   kG = word::G, kM = word::M, kT = word::T;
 constexpr unsigned kNozzleMax = 280;      // °C: gpx clamps M104/M109 here
 constexpr unsigned kMaxTimeout = 0xFFFF;  // s: the waits' default timeout
 
@@ -35,99 +35,16 @@ std::int64_t to_i64(double v) {
   return static_cast<std::int64_t>(v);
 }
 
-bool is_space(char c) {
-  return std::isspace(static_cast<unsigned char>(c)) != 0;
-}
-bool is_digit(char c) {
-  return c >= '0' && c <= '9';
+// "M104 without S": built by appending (GCC 12 warns falsely on "M" + std::to_string(n)).
+std::string code(char letter, long n, std::string_view rest) {
+  std::string s(1, letter);
+  s.append(std::to_string(n)).append(rest);
+  return s;
 }
 
 struct Vec5 {
   double x = 0, y = 0, z = 0, a = 0, b = 0;
 };
-
-// One line's words, read as gpx's parser reads them (normalize_word: a letter, blanks, an optional
-// sign, digits and one '.', blanks allowed between digits; strtod/atoi of what is left).
-struct Words {
-  unsigned flag = 0;
-  double x = 0, y = 0, z = 0, a = 0, b = 0, e = 0, f = 0, p = 0, r = 0, s = 0;
-  int g = 0, m = 0, t = 0;
-};
-
-std::size_t read_number(std::string_view s, std::size_t i, std::string& out) {
-  out.clear();
-  while (i < s.size() && is_space(s[i])) ++i;
-  if (i < s.size() && (s[i] == '+' || s[i] == '-')) out.push_back(s[i++]);
-  const auto digits = [&] {
-    for (; i < s.size() && (is_space(s[i]) || is_digit(s[i])); ++i)
-      if (is_digit(s[i])) out.push_back(s[i]);
-  };
-  digits();
-  if (i < s.size() && s[i] == '.') {
-    out.push_back(s[i++]);
-    digits();
-  }
-  return i;
-}
-
-Words parse_words(std::string_view text) {
-  Words w;
-  std::size_t i = 0;
-  std::string number;
-  while (i < text.size() && is_space(text[i])) ++i;
-  if (i < text.size() && (text[i] == 'N' || text[i] == 'n')) i = read_number(text, i + 1, number);
-  while (i < text.size()) {
-    const char c = text[i];
-    if (!std::isalpha(static_cast<unsigned char>(c))) break;  // '*' checksum, or what gpx refuses
-    i = read_number(text, i + 1, number);
-    const double v = std::strtod(number.c_str(), nullptr);
-    const int n = static_cast<int>(std::strtol(number.c_str(), nullptr, 10));
-    switch (std::toupper(static_cast<unsigned char>(c))) {
-      case 'X':
-        w.x = v, w.flag |= kX;
-        break;
-      case 'Y':
-        w.y = v, w.flag |= kY;
-        break;
-      case 'Z':
-        w.z = v, w.flag |= kZ;
-        break;
-      case 'A':
-        w.a = v, w.flag |= kA;
-        break;
-      case 'B':
-        w.b = v, w.flag |= kB;
-        break;
-      case 'E':
-        w.e = v, w.flag |= kE;
-        break;
-      case 'F':
-        w.f = v, w.flag |= kF;
-        break;
-      case 'P':
-        w.p = v, w.flag |= kP;
-        break;
-      case 'R':
-        w.r = v, w.flag |= kR;
-        break;
-      case 'S':
-        w.s = v, w.flag |= kS;
-        break;
-      case 'G':
-        w.g = n, w.flag |= kG;
-        break;
-      case 'M':
-        w.m = n, w.flag |= kM;
-        break;
-      case 'T':
-        w.t = n, w.flag |= kT;
-        break;
-      default:
-        break;  // gpx warns and reads on
-    }
-  }
-  return w;
-}
 
 double magnitude(unsigned flag, const Vec5& v) {
   double acc = 0.0;
@@ -183,7 +100,7 @@ class Translator {
   bool command(const Program::Command& c, std::size_t index) {
     index_ = index;
     cmd_ = &c;
-    w_ = parse_words(c.text);
+    w_ = parse_gcode_words(c.text);
     if (w_.flag & kT) {
       if (static_cast<unsigned>(w_.t) < m_.extruder_count) target_tool_ = static_cast<unsigned>(w_.t);
     }
@@ -247,6 +164,7 @@ class Translator {
   void g_code();
   bool m_code();
   bool m_temperature();
+  bool m_build();
   void move();
   void queue_point(const Vec5& delta, bool relative);
   void queue_absolute_point();
@@ -262,7 +180,7 @@ class Translator {
   Translation& out_;
   std::size_t index_ = 0;
   const Program::Command* cmd_ = nullptr;
-  Words w_;
+  GcodeWords w_;
 
   Vec5 current_, target_;
   unsigned known_ = 0, mask_ = 0;
@@ -555,7 +473,7 @@ void Translator::g_code() {
       home(w_.flag & kXYZ, w_.g == 162);
       return set_unknown(w_.flag);
     default:
-      return skip("G" + std::to_string(w_.g) + " is not an s3g command (gpx skips it too)");
+      return skip(code('G', w_.g, " is not an s3g command (gpx skips it too)"));
   }
 }
 
@@ -567,7 +485,7 @@ bool Translator::m_temperature() {
   switch (w_.m) {
     case 104:
     case 109: {
-      if (!(w_.flag & kS)) return skip("M" + std::to_string(w_.m) + " without S (temperature)"), true;
+      if (!(w_.flag & kS)) return skip(code('M', w_.m, " without S (temperature)")), true;
       unsigned c = std::min(to_u32(w_.s), kNozzleMax);
       if (c && active_[target_tool_]) c = active_[target_tool_];
       emit(actions::nozzle_temperature(tool(target_tool_), static_cast<std::uint16_t>(c)));
@@ -586,7 +504,7 @@ bool Translator::m_temperature() {
       if (w_.flag & kT) t = target_tool_;
       const bool heats = t ? m_.b.heats_bed : m_.a.heats_bed;
       if (w_.flag & kS) {
-        if (!heats) return skip("T" + std::to_string(t) + " has no heated bed"), true;
+        if (!heats) return skip(code('T', t, " has no heated bed")), true;
         bed_[t] = to_u32(w_.s);
         emit(actions::bed_temperature(tool(t), static_cast<std::uint16_t>(bed_[t])));
       } else if (w_.m == 140) {
@@ -617,6 +535,44 @@ bool Translator::m_temperature() {
   }
 }
 
+// M2 M73 M136 M137: the build's start, progress and end. False after M2: gpx reads no further.
+bool Translator::m_build() {
+  switch (w_.m) {
+    case 2:
+      if (state_ != State::ended) {
+        end_build();
+        emit(actions::build_end());
+      }
+      return false;
+    case 73: {
+      if (!(w_.flag & kP)) return skip("M73 without P (percent)"), true;
+      const unsigned pct = std::min(to_u32(w_.p), 100u);
+      if (state_ == State::ready && pct < 100) {
+        start_build(pct);
+      } else if (state_ != State::ended) {
+        if (pct == 100) {
+          end_build();
+          if (opt_.build_end) emit(actions::build_end());
+        } else if (percent_ < pct) {
+          percent_ = pct;
+          emit(actions::build_percent(static_cast<std::uint8_t>(pct)));
+        }
+      }
+      return true;
+    }
+    case 136:
+      if (state_ == State::ready) start_build(0);
+      return true;
+    case 137:
+      if (state_ != State::ended) {
+        end_build();
+        emit(actions::build_end());
+      }
+      return true;
+  }
+  return true;
+}
+
 bool Translator::m_code() {
   const int m = w_.m;
   if (is_query(m)) return skip("a host query, not an action (gpx writes it into the file anyway)"), true;
@@ -635,11 +591,10 @@ bool Translator::m_code() {
     case 400:
       return true;
     case 2:
-      if (state_ != State::ended) {
-        end_build();
-        emit(actions::build_end());
-      }
-      return false;
+    case 73:
+    case 136:
+    case 137:
+      return m_build();
     case 6:
     case 104:
     case 109:
@@ -658,22 +613,6 @@ bool Translator::m_code() {
       if (!(w_.flag & kP)) return skip("M72 without P (song)"), true;
       emit(actions::song(static_cast<std::uint8_t>(std::min(to_u32(w_.p), 2u))));
       return true;
-    case 73: {
-      if (!(w_.flag & kP)) return skip("M73 without P (percent)"), true;
-      const unsigned pct = std::min(to_u32(w_.p), 100u);
-      if (state_ == State::ready && pct < 100) {
-        start_build(pct);
-      } else if (state_ != State::ended) {
-        if (pct == 100) {
-          end_build();
-          if (opt_.build_end) emit(actions::build_end());
-        } else if (percent_ < pct) {
-          percent_ = pct;
-          emit(actions::build_percent(static_cast<std::uint8_t>(pct)));
-        }
-      }
-      return true;
-    }
     case 82:
       extruder_relative_ = false;
       return true;
@@ -704,7 +643,7 @@ bool Translator::m_code() {
       return true;
     case 131:
     case 132:
-      if (!(w_.flag & kAxes)) return skip("M" + std::to_string(m) + " without axes (X Y Z A B)"), true;
+      if (!(w_.flag & kAxes)) return skip(code('M', m, " without axes (X Y Z A B)")), true;
       if (m == 131) return emit(actions::store_home(static_cast<std::uint8_t>(w_.flag & kAxes))), true;
       emit(actions::recall_home(static_cast<std::uint8_t>(w_.flag & kAxes)));
       set_unknown(w_.flag);
@@ -714,15 +653,6 @@ bool Translator::m_code() {
       return true;
     case 135:
       if (target_tool_ != tool_) tool_change();
-      return true;
-    case 136:
-      if (state_ == State::ready) start_build(0);
-      return true;
-    case 137:
-      if (state_ != State::ended) {
-        end_build();
-        emit(actions::build_end());
-      }
       return true;
     case 220:
       if ((w_.flag & kS) && w_.s > 0) speed_factor_ = to_u32(w_.s);
@@ -739,7 +669,7 @@ bool Translator::m_code() {
       emit(actions::acceleration(m == 320));
       return true;
     default:
-      return skip("M" + std::to_string(m) + " is not translated to s3g"), true;
+      return skip(code('M', m, " is not translated to s3g")), true;
   }
 }
 
