@@ -44,11 +44,18 @@ int export_x3g(const ExportX3gOptions& o) {
     std::fprintf(stderr, "salient: warning: %s:%zu: skipped '%s': %s\n", in_name.c_str(), s.line,
                  s.command.c_str(), s.reason.c_str());
 
+  // Written beside the target and renamed over it: never a half-written .x3g.
   const std::string bytes = t.program.bytes();
-  std::ofstream out(o.output, std::ios::binary | std::ios::trunc);
+  const std::string temp = o.output + ".part";
+  std::ofstream out(temp, std::ios::binary | std::ios::trunc);
   if (out) out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (out) out.close();
-  if (!out) throw core::InputError(o.output, {}, "cannot write");
+  std::error_code ec;
+  if (out) std::filesystem::rename(temp, o.output, ec);
+  if (!out || ec) {
+    std::filesystem::remove(temp, ec);
+    throw core::InputError(o.output, {}, "cannot write");
+  }
   std::printf("%s: %zu actions, %zu bytes, %zu skipped, for the %s -> %s\n", in_name.c_str(),
               t.program.actions.size(), bytes.size(), t.skipped.size(), machine->name.c_str(),
               o.output.c_str());
