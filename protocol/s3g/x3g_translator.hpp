@@ -25,7 +25,13 @@
 // the board. Not covered (reported when met): GPX's macros (";@…"), ini files and EEPROM, M70/M71
 // (their text is in a comment, which Program strips), M108 R (simulated RPM), M322, M420.
 //
+// Words are read as gpx reads them (gcode_words.hpp). The one input where we cannot follow gpx:
+// a line of bare axis words with a comment ("X5 ; note") is a move here and ignored by gpx, since
+// Program strips comments before we see the line (no slicer writes such lines).
+//
 // Deliberate differences from gpx (docs/x3g.md):
+// - G0 without F under G91 keeps its direction: gpx, making up G0's feed rate, takes the absolute
+//   value of the deltas, which under G91 are the move itself ("G91", "G0 X-10" goes to +10 mm).
 // - Host queries (M1 pause, M20/M21/M23–M25/M27–M29 SD card, M105, M114, M115) are skipped: gpx
 //   writes their query packets into the .x3g file, where they are not actions and would stall or
 //   confuse a board playing the file.
