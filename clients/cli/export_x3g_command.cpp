@@ -39,6 +39,7 @@ int export_x3g(const ExportX3gOptions& o) {
 
   protocol::s3g::TranslateOptions options;
   options.build_name = protocol::s3g::build_name_for(o.output);
+  options.source = text;  // comments: M70/M71 messages, as gpx reads them
   const auto t = protocol::s3g::translate_gcode(protocol::Program::parse(text), *machine, options);
   for (const auto& s : t.skipped)
     std::fprintf(stderr, "salient: warning: %s:%zu: skipped '%s': %s\n", in_name.c_str(), s.line,

@@ -51,6 +51,37 @@ int to_int(std::string_view n) {
   return static_cast<int>(v);
 }
 
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && is_space(s.front())) s.remove_prefix(1);
+  while (!s.empty() && is_space(s.back())) s.remove_suffix(1);
+  return s;
+}
+
+// gpx's comments: ";" to the end of the line, "(" to the last ")" when another "(" comes first, else
+// to the first; a ";@" or "(@" macro ends the line without a comment. True when reading goes on.
+bool read_comment(std::string_view text, std::size_t& i, GcodeWords& w) {
+  const bool macro =
+      i + 2 < text.size() && text[i + 1] == '@' && std::isalpha(static_cast<unsigned char>(text[i + 2]));
+  if (macro) return false;
+  if (text[i] == ';') {
+    w.comment = std::string(trim(text.substr(i + 1)));
+    w.flag |= word::COMMENT;
+    return false;
+  }
+  const std::size_t open = text.find('(', i + 1);
+  std::size_t close = text.find(')', i + 1);
+  if (open != std::string_view::npos && close != std::string_view::npos && open < close)
+    close = text.rfind(')');
+  w.flag |= word::COMMENT;
+  if (close == std::string_view::npos) {
+    w.comment = std::string(trim(text.substr(i + 1)));
+    return false;
+  }
+  w.comment = std::string(trim(text.substr(i + 1, close - i - 1)));
+  i = close + 1;
+  return true;
+}
+
 }  // namespace
 
 GcodeWords parse_gcode_words(std::string_view text) {
@@ -59,7 +90,11 @@ GcodeWords parse_gcode_words(std::string_view text) {
   std::string number;
   while (i < text.size() && is_space(text[i])) ++i;
   if (i < text.size() && (text[i] == 'N' || text[i] == 'n')) i = read_number(text, i + 1, number);
-  while (i < text.size() && std::isalpha(static_cast<unsigned char>(text[i]))) {
+  while (i < text.size()) {
+    if (!std::isalpha(static_cast<unsigned char>(text[i]))) {
+      if ((text[i] == ';' || text[i] == '(') && read_comment(text, i, w)) continue;
+      break;  // '*' (checksum), the end of a comment, or what gpx refuses
+    }
     const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(text[i])));
     i = read_number(text, i + 1, number);
     double* value = nullptr;

@@ -116,6 +116,14 @@ std::string beep(std::uint16_t hz, std::uint16_t ms) {
   return p;
 }
 
+std::string display_message(std::uint8_t options, std::uint8_t h, std::uint8_t v, std::uint8_t timeout_s,
+                            std::string_view text) {
+  std::string p = bytes({149, options, h, v, timeout_s});
+  p += text;
+  p.push_back('\0');
+  return p;
+}
+
 std::string build_percent(std::uint8_t percent) {
   return bytes({150, percent, 0});
 }

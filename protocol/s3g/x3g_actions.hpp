@@ -26,10 +26,14 @@ std::string store_home(std::uint8_t axes);                                      
 std::string recall_home(std::uint8_t axes);                                                        // 144
 std::string set_pot(std::uint8_t axis, std::uint8_t value);                                        // 145
 std::string beep(std::uint16_t hz, std::uint16_t ms);                                              // 147
-std::string build_percent(std::uint8_t percent);                                                   // 150
-std::string song(std::uint8_t id);                                                                 // 151
-std::string build_start(std::string_view name);  // 153 (name cut at 24)
-std::string build_end();                         // 154
+// 149: up to 20 characters of a message at column `h`, row `v` (`options` bit 0 keeps the screen,
+// bit 1 ends a message group, bit 2 waits for the button).
+std::string display_message(std::uint8_t options, std::uint8_t h, std::uint8_t v, std::uint8_t timeout_s,
+                            std::string_view text);
+std::string build_percent(std::uint8_t percent);  // 150
+std::string song(std::uint8_t id);                // 151
+std::string build_start(std::string_view name);   // 153 (name cut at 24)
+std::string build_end();                          // 154
 // 155: XYZ absolute (unless `relative` says so) and AB steps, steps/s on the longest axis, the
 // move's length in mm, and its feed in mm/s × 64.
 std::string queue_point(const std::array<std::int32_t, 5>& steps, std::uint32_t dda_rate,

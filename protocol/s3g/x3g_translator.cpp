@@ -100,7 +100,7 @@ class Translator {
   bool command(const Program::Command& c, std::size_t index) {
     index_ = index;
     cmd_ = &c;
-    w_ = parse_gcode_words(c.text);
+    w_ = parse_gcode_words(line_of(c));
     if (w_.flag & kT) {
       if (static_cast<unsigned>(w_.t) < m_.extruder_count) target_tool_ = static_cast<unsigned>(w_.t);
     }
@@ -113,7 +113,10 @@ class Translator {
     }
     if (w_.flag & kG) return g_code(), true;
     if (w_.flag & kM) return m_code();
-    if (w_.flag & (kAxes | kF)) return move(), true;
+    if (w_.flag & (kAxes | kF)) {
+      if (!(w_.flag & word::COMMENT)) move();  // gpx ignores "X5 ; note"
+      return true;
+    }
     if (w_.flag & kT) {
       if (target_tool_ != tool_) tool_change();
       return true;
@@ -133,6 +136,14 @@ class Translator {
 
  private:
   enum class State { ready, running, ended };
+
+  // The command's whole line when the file is at hand (gpx reads comments), else its text.
+  std::string_view line_of(const Program::Command& c) const {
+    const std::string_view file = opt_.source;
+    if (c.offset >= file.size()) return c.text;
+    const std::size_t end = file.find('\n', c.offset);
+    return file.substr(c.offset, end == std::string_view::npos ? std::string_view::npos : end - c.offset);
+  }
 
   void emit(std::string payload) {
     out_.program.actions.push_back(std::move(payload));
@@ -172,6 +183,7 @@ class Translator {
   void set_unknown(unsigned flag);
   void tool_change();
   void wait_for_bed(bool set_first);
+  void display_message();
   void start_build(unsigned percent);
   void end_build();
 
@@ -573,6 +585,41 @@ bool Translator::m_build() {
   return true;
 }
 
+// gpx.c display_message: the text in 20-character packets (80 at most from the screen's origin),
+// the last one with the timeout, and for M71 the wait for the button.
+void Translator::display_message() {
+  const bool wait = w_.m == 71;
+  if (!wait && !(w_.flag & word::COMMENT))
+    return skip(opt_.source.empty() ? "M70: its message is in a comment, which needs the file's text"
+                                    : "M70 without a message (a comment)");
+  std::string_view text = (w_.flag & word::COMMENT) ? std::string_view(w_.comment) : "Press M to continue";
+  text = text.substr(0, text.find('\0'));
+  const unsigned v = std::min((w_.flag & kY) ? to_u32(w_.y) : 0u, 3u);
+  const unsigned h = std::min((w_.flag & kX) ? to_u32(w_.x) : 0u, 19u);
+  const auto timeout = static_cast<std::uint8_t>((w_.flag & kP) ? static_cast<unsigned>(to_i32(w_.p)) : 0u);
+  const std::size_t row = h ? 20 - h : 20;
+  std::uint8_t options = 0;
+  std::size_t length = text.size();
+  if (v || h) {
+    length = std::min(length, row);
+    options |= 0x01;
+  } else {
+    length = std::min<std::size_t>(length, 80);
+  }
+  for (std::size_t sent = 0; sent < length;) {
+    std::uint8_t seconds = 0;
+    if (sent + row >= length) {
+      seconds = timeout;
+      options |= wait ? 0x06 : 0x02;
+    }
+    if (sent > 0) options |= 0x01;
+    const std::size_t n = std::min(length - sent, row);
+    emit(actions::display_message(options, static_cast<std::uint8_t>(h), static_cast<std::uint8_t>(v),
+                                  seconds, text.substr(sent, n)));
+    sent += n;
+  }
+}
+
 bool Translator::m_code() {
   const int m = w_.m;
   if (is_query(m)) return skip("a host query, not an action (gpx writes it into the file anyway)"), true;
@@ -609,6 +656,9 @@ bool Translator::m_code() {
       emit(actions::enable_axes(static_cast<std::uint8_t>((w_.flag & kAxes) ? (w_.flag & kAxes) : all_motors),
                                 m == 17));
       return true;
+    case 70:
+    case 71:
+      return display_message(), true;
     case 72:
       if (!(w_.flag & kP)) return skip("M72 without P (song)"), true;
       emit(actions::song(static_cast<std::uint8_t>(std::min(to_u32(w_.p), 2u))));

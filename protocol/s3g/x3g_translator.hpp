@@ -22,12 +22,11 @@
 // M26 M30 M31 M72 M73 M82 M83 M84 M101–M104 M106–M112 M116 M126 M127 M131–M137 M140 M190 M220
 // M221 M300 M320 M321 M400, T<n>. Anything else is reported in `skipped` with its line and sends
 // nothing, as gpx (which warns and sends nothing) does; never an unknown action, which would stall
-// the board. Not covered (reported when met): GPX's macros (";@…"), ini files and EEPROM, M70/M71
-// (their text is in a comment, which Program strips), M108 R (simulated RPM), M322, M420.
+// the board. Not covered (reported when met): GPX's macros (";@…"), ini files and EEPROM, M108 R
+// (simulated RPM), M322, M420; M70/M71 (messages) need options.source.
 //
-// Words are read as gpx reads them (gcode_words.hpp). The one input where we cannot follow gpx:
-// a line of bare axis words with a comment ("X5 ; note") is a move here and ignored by gpx, since
-// Program strips comments before we see the line (no slicer writes such lines).
+// Words are read as gpx reads them (gcode_words.hpp), from the whole line when options.source is
+// given; without it, comments are gone: M70/M71 are skipped and "X5 ; note" (ignored by gpx) moves.
 //
 // Deliberate differences from gpx (docs/x3g.md):
 // - G0 without F under G91 keeps its direction: gpx, making up G0's feed rate, takes the absolute
@@ -39,6 +38,7 @@
 
 #include <cstddef>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "protocol/gcode/program.hpp"
@@ -53,6 +53,10 @@ struct TranslateOptions {
   std::string build_name = "GPX 2.6.8";
   bool build_start = true;  // 153 when the build starts (gpx -N h turns it off)
   bool build_end = true;    // 150 100 % and 154 at the end of the file (gpx -N t turns it off)
+  // The text the Program was parsed from, when the caller has it: each command is then read from
+  // its whole line (Program::Command::offset), comments included, as gpx reads it — M70/M71 take
+  // their message from the comment, and a line of bare axis words with a comment is no move.
+  std::string_view source;
 };
 
 // A command that sent nothing because the translator does not handle it.

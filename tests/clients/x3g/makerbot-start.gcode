@@ -31,5 +31,6 @@ M18 X Y Z(Turn off steppers after a build)
 M104 S0 T0
 M140 S0 T0
 M73 P100 (end  build progress )
+M70 P5 (We <3 Making Things!)
 M72 P1  ( Play Ta-Da song )
 M137 (build end notification)

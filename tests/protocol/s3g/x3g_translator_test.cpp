@@ -191,3 +191,18 @@ TEST_CASE("build_name_for is gpx's: the base name without its extension") {
   CHECK(build_name_for("part.v2.x3g") == "part.v2");
   CHECK(build_name_for("noext") == "noext");
 }
+
+TEST_CASE("M70 takes its message from the comment, which only the file's text still has") {
+  const std::string file = "M70 P5 (Hello)\nX5 ; no move for gpx\n";
+  const Program p = Program::parse(file);
+  TranslateOptions o;
+  const auto without = translate_gcode(p, *find_machine("r2x"), o);
+  REQUIRE(without.skipped.size() == 1);
+  CHECK(without.skipped[0].line == 1);
+  o.source = file;
+  const auto with = translate_gcode(p, *find_machine("r2x"), o);
+  CHECK(with.skipped.empty());
+  // gpx -I -q -m r2x: 149 (last of its group, 5 s) "Hello", and nothing for the commented X5
+  REQUIRE(with.program.actions.size() == 3);
+  CHECK(with.program.actions[0] == std::string("\x95\x02\x00\x00\x05Hello\0", 11));
+}
