@@ -77,6 +77,8 @@ std::string SailfishFirmware::take_output(Micros now) {
 // (k in 0…34, 0 the start byte, 1 the length) and folded onto its payload and CRC once its
 // length is known, so that every packet length is hit alike.
 std::uint8_t SailfishFirmware::corrupt_incoming(std::uint8_t byte) {
+  byte_host_at_ = -1;
+  byte_corrupted_ = false;
   if (host_at_ < 0) {
     if (byte != s3g::kStartByte) return byte;  // the host's own stray byte
     host_at_ = 0;
@@ -84,11 +86,14 @@ std::uint8_t SailfishFirmware::corrupt_incoming(std::uint8_t byte) {
     corrupt_at_ = chance(config_.faults.noise) ? std::uniform_int_distribution<int>(0, 34)(rng_) : -1;
   }
   const int at = host_at_++;
+  byte_host_at_ = at;
+  byte_corrupted_ = at == corrupt_at_;
   if (at == 1) {
     host_length_ = byte;
     if (corrupt_at_ > 1) corrupt_at_ = 2 + (corrupt_at_ - 2) % (host_length_ + 1);
   }
-  if ((at == 1 && (byte == 0 || byte > s3g::kMaxPayload)) || (at >= 2 && at == host_length_ + 2))
+  byte_ends_packet_ = at >= 2 && at == host_length_ + 2;
+  if ((at == 1 && (byte == 0 || byte > s3g::kMaxPayload)) || byte_ends_packet_)
     host_at_ = -1;  // the host's packet ends here
   if (at != corrupt_at_) return byte;
   ++stats_.packets_corrupted;
@@ -104,6 +109,8 @@ void SailfishFirmware::feed(std::uint8_t byte, Micros now) {
   byte = corrupt_incoming(byte);
   const bool was_in_packet = decoder_.in_packet();
   s3g::PacketDecoder::Result r = decoder_.feed(byte);
+  // Is the packet the decoder reads one the host sent, byte for byte?
+  packet_true_ = (was_in_packet ? packet_true_ && byte_host_at_ > 0 : byte_host_at_ == 0) && !byte_corrupted_;
   if (!was_in_packet) {
     if (decoder_.in_packet()) {
       packet_started_ = now;
@@ -120,6 +127,7 @@ void SailfishFirmware::feed(std::uint8_t byte, Micros now) {
     ++stats_.crc_errors;
     reply(code(Reply::crc_mismatch), now);
   } else if (r.payload) {
+    if (!packet_true_ || !byte_ends_packet_) ++stats_.false_packets;
     handle_packet(*r.payload, now);
   }
 }

@@ -62,13 +62,17 @@ struct SailfishStats {
   long long executed = 0;           // actions started (the --log's lines)
   long long packets_received = 0;   // whole packets with a good CRC
   long long packets_corrupted = 0;  // by the noise fault
-  long long crc_errors = 0;         // 83 sent
-  long long length_errors = 0;      // 84 sent
-  long long packet_timeouts = 0;    // 8C sent
-  long long stray_bytes = 0;        // 80 sent
-  long long unsupported = 0;        // 85 sent
-  long long buffer_full_sent = 0;   // 82 sent, storms included
-  long long storm_refusals = 0;     // of those, refused by full-storm although they fit
+  // Taken although the host never sent it as such: noise that shortened a length and still passed
+  // the CRC (1 in 256), or a start byte inside the host's bytes. s3g cannot tell; a real board
+  // runs it too. Also counted in packets_received.
+  long long false_packets = 0;
+  long long crc_errors = 0;        // 83 sent
+  long long length_errors = 0;     // 84 sent
+  long long packet_timeouts = 0;   // 8C sent
+  long long stray_bytes = 0;       // 80 sent
+  long long unsupported = 0;       // 85 sent
+  long long buffer_full_sent = 0;  // 82 sent, storms included
+  long long storm_refusals = 0;    // of those, refused by full-storm although they fit
   long long replies_dropped = 0;
   long long replies_corrupted = 0;
   long long resets = 0;
@@ -140,6 +144,10 @@ class SailfishFirmware {
   // The noise fault follows the host's framing, not the decoder's: which byte of the packet
   // the host sent is next, how long that packet is, and which of its bytes gets changed.
   int host_at_ = -1, host_length_ = 0, corrupt_at_ = -1;
+  // The byte being fed: its place in the host's packet (-1: none), whether noise changed it,
+  // whether it is the host packet's last; and whether the decoder's packet is the host's so far.
+  int byte_host_at_ = -1;
+  bool byte_corrupted_ = false, byte_ends_packet_ = false, packet_true_ = false;
   std::string ring_;  // the command ring's bytes, head first
   // The action running, once started: when it ends (Micros::max() while a wait holds it).
   bool running_ = false;
