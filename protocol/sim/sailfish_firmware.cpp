@@ -529,6 +529,7 @@ void SailfishFirmware::cancel(Micros now) {
 // ---- heaters ----
 
 void SailfishFirmware::update_heaters(Micros now) {
+  if (now < heaters_at_) return;  // a driver's clock never goes back; if it did, time stands still
   const double scale = heat_scale();
   const double dt = static_cast<double>((now - heaters_at_).count()) / 1e6;
   heaters_at_ = now;
