@@ -88,11 +88,16 @@ class SailfishFirmware {
 
   explicit SailfishFirmware(SailfishConfig config);
 
+  // Times are the driver's clock; it never goes back.
+  // Bytes the host wrote at `now`: they reach the board at the wire's rate (config baud).
   void receive(std::string_view bytes, Micros now);
+  // Reads what has arrived, answers it, runs the ring: everything due by `now`.
   void advance(Micros now);
+  // Reply bytes that have reached the host by `now`.
   std::string take_output(Micros now);
   // Each executed action's payload in lowercase hex, in order (the --log's lines).
   std::vector<std::string> take_executed() { return std::exchange(executed_, {}); }
+  // When advance() next has something to do; Micros::max(): nothing until bytes come.
   Micros next_wakeup() const;
 
   State state() const { return state_; }
