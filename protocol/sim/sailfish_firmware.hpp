@@ -50,7 +50,8 @@ struct SailfishConfig {
   double hotend_cool = 1, bed_cool = 0.25;  // °C/s cooling, slower
   double ambient = 21;
   double ready_band = 2;  // °C: a heater within this of its target is ready
-  // Steps per mm (GPX's r2x), for homing times, and the positions that homing and 144 set.
+  // Steps per mm (GPX's r2x), for homing times; the positions that homing and 144 set (plausible
+  // r2x home offsets: a real board keeps its own in EEPROM).
   std::array<double, 5> steps_per_mm{88.888889, 88.888889, 400, 96.2752018703, 96.2752018703};
   std::array<std::int32_t, 5> home_steps{13511, 6533, 0, 0, 0};
   std::array<double, 3> travel_mm{246, 152, 155};  // homing from an unknown position
