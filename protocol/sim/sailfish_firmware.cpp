@@ -104,7 +104,7 @@ void SailfishFirmware::feed(std::uint8_t byte, Micros now) {
   if (decoder_.in_packet() && now - packet_started_ >= config_.packet_timeout) {
     decoder_.reset();
     ++stats_.packet_timeouts;
-    reply(code(Reply::packet_timeout), now);
+    link_error(Reply::packet_timeout, now);
   }
   byte = corrupt_incoming(byte);
   const bool was_in_packet = decoder_.in_packet();
@@ -116,20 +116,26 @@ void SailfishFirmware::feed(std::uint8_t byte, Micros now) {
       packet_started_ = now;
     } else {
       ++stats_.stray_bytes;
-      reply(code(Reply::generic_error), now);
+      link_error(Reply::generic_error, now);
     }
     return;
   }
   if (r.error == s3g::PacketDecoder::Error::bad_length) {
     ++stats_.length_errors;
-    reply(code(Reply::packet_too_big), now);
+    link_error(Reply::packet_too_big, now);
   } else if (r.error == s3g::PacketDecoder::Error::bad_crc) {
     ++stats_.crc_errors;
-    reply(code(Reply::crc_mismatch), now);
+    link_error(Reply::crc_mismatch, now);
   } else if (r.payload) {
     if (!packet_true_ || !byte_ends_packet_) ++stats_.false_packets;
     handle_packet(*r.payload, now);
   }
+}
+
+// A packet the board could not read: answered, or, as Sailfish 7.7 does, not (Host.cc has the
+// replies commented out), and the host waits for its reply timeout.
+void SailfishFirmware::link_error(s3g::Reply r, Micros now) {
+  if (config_.error_replies) reply(code(r), now);
 }
 
 void SailfishFirmware::reply(std::string payload, Micros now) {
@@ -575,7 +581,7 @@ void SailfishFirmware::advance(Micros now) {
       now - packet_started_ >= config_.packet_timeout) {
     decoder_.reset();
     ++stats_.packet_timeouts;
-    reply(code(Reply::packet_timeout), now);
+    link_error(Reply::packet_timeout, now);
   }
   run(now);
 }

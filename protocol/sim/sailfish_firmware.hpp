@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "protocol/s3g/packet.hpp"
+#include "protocol/s3g/s3g_codes.hpp"
 #include "protocol/sim/sailfish_faults.hpp"
 #include "protocol/sim/wire.hpp"
 
@@ -56,6 +57,9 @@ struct SailfishConfig {
   std::array<std::int32_t, 5> home_steps{13511, 6533, 0, 0, 0};
   std::array<double, 3> travel_mm{246, 152, 155};  // homing from an unknown position
   std::uint16_t firmware_version = 707, internal_version = 0;
+  // 80, 83, 84 and 8C are sent, as the shared host contract has it; false: silence instead, as
+  // Sailfish 7.7 really does.
+  bool error_replies = true;
   SailfishFaults faults;
 };
 
@@ -123,6 +127,7 @@ class SailfishFirmware {
   std::string tool_query(const std::string& payload) const;
   std::string queue_action(const std::string& payload);
   void reply(std::string payload, Micros now);
+  void link_error(s3g::Reply r, Micros now);
   void run(Micros now);
   bool finish_current(Micros now);
   void start(const std::string& action, Micros now);

@@ -328,6 +328,23 @@ TEST_CASE("a stray byte gets 80, a bad CRC 83, a length of 0 or over 32 gets 84"
   CHECK(code(fw, bytes({2}), t) == 0x81);  // and the board goes on
 }
 
+TEST_CASE("with error_replies off the board is silent on what it cannot read, as Sailfish 7.7 is") {
+  SailfishConfig c;
+  c.error_replies = false;
+  SailfishFirmware fw(c);
+  std::string bad = s3g::frame(bytes({2}));
+  bad.back() = static_cast<char>(bad.back() ^ 1);
+  fw.receive(bytes({0x01}) + bad + bytes({0xD5, 40}) + bytes({0xD5, 1}), Micros{0});
+  fw.advance(Micros{0});
+  fw.advance(ms(200));
+  CHECK(fw.take_output(ms(200)).empty());
+  CHECK(fw.stats().stray_bytes == 1);
+  CHECK(fw.stats().crc_errors == 1);
+  CHECK(fw.stats().length_errors == 1);
+  CHECK(fw.stats().packet_timeouts == 1);
+  CHECK(code(fw, bytes({2}), ms(201)) == 0x81);
+}
+
 TEST_CASE("an unknown action id is acked and stalls the ring for ever, as on the board") {
   SailfishFirmware fw({});
   Micros t{0};
