@@ -19,7 +19,7 @@
 //   gets them after its last command (also when it never started: GPX's "ready" counts as running).
 //
 // Covered: G0 G1 G4 G10 G15 G21 G28 G53–G59 G71 G90 G91 G92 G130 G161 G162, M0 M2 M6 M17 M18 M22
-// M26 M30 M31 M72 M73 M82 M83 M84 M101–M104 M106–M112 M116 M126 M127 M131–M137 M140 M190 M220
+// M26 M30 M31 M70 M71 M72 M73 M82 M83 M84 M101–M104 M106–M112 M116 M126 M127 M131–M137 M140 M190 M220
 // M221 M300 M320 M321 M400, T<n>. Anything else is reported in `skipped` with its line and sends
 // nothing, as gpx (which warns and sends nothing) does; never an unknown action, which would stall
 // the board. Not covered (reported when met): GPX's macros (";@…"), ini files and EEPROM, M108 R

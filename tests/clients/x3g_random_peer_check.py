@@ -16,7 +16,7 @@ import sys
 COMMANDS = ["G1", "G0", "G1", "G1", "G92", "G28", "G161", "G162", "G90", "G91", "M82", "M83", "M104", "M109",
             "M140", "M190", "M133", "M134", "M106", "M107", "M126", "M127", "M132", "M18", "M84", "M17", "M73",
             "G4", "T0", "T1", "M220", "M221", "M136", "M137", "G10", "G54", "G55", "G53", "M6", "M116", "M135",
-            "M300", "M72", "M320", "M321", "G130", "M131", "G29", "M999", "X5"]
+            "M300", "M72", "M320", "M321", "G130", "M131", "G29", "M999", "X5", "M70", "M71"]
 
 
 def program(seed):
@@ -50,12 +50,18 @@ def program(seed):
             w = [c] + ([f"S{r.randint(0, 255)}"] if r.random() < 0.5 else [])
         elif c == "M300":
             w = [c, f"S{r.randint(0, 5000)}", f"P{r.randint(0, 3000)}"]
+        elif c in ("M70", "M71"):
+            w = [c] + [f"{a}{r.randint(-2, 25)}" for a in "XYP" if r.random() < 0.4]
+            if r.random() < 0.8:
+                w.append("(" + "".join(r.choice("abc xyz()") for _ in range(r.randint(0, 90))) + ")")
         elif c == "M72":
             w = [c, f"P{r.randint(0, 5)}"]
         elif c == "G130":
             w = [c, f"X{r.randint(-5, 300)}", f"Y{r.randint(0, 127)}"]
         else:
             w = [c]
+        if r.random() < 0.1:
+            w.append(r.choice(["; note", "(aside)", ";", "( nested (x) )"]))
         lines.append(" ".join(w))
     return "\n".join(lines) + "\n"
 

@@ -206,3 +206,14 @@ TEST_CASE("M70 takes its message from the comment, which only the file's text st
   REQUIRE(with.program.actions.size() == 3);
   CHECK(with.program.actions[0] == std::string("\x95\x02\x00\x00\x05Hello\0", 11));
 }
+
+TEST_CASE("without the build's head and tail, as gpx -N ht writes") {
+  // gpx -I -q -N ht -m r2x m73.gcode m73.x3g, and -N t on bare.gcode
+  TranslateOptions o;
+  o.build_start = o.build_end = false;
+  const auto t = translate_gcode(Program::from_lines({"M73 P0", "M73 P50", "M73 P40", "M73 P100"}),
+                                 *find_machine("r2x"), o);
+  CHECK(hex(t.program.bytes()) == "9600008600963200966400");
+  const auto bare = translate_gcode(Program::from_lines({"M104 S230"}), *find_machine("r2x"), o);
+  CHECK(hex(bare.program.bytes()) == "88000302e600");
+}
