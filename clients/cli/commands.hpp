@@ -25,6 +25,7 @@ void add_saliency_command(CLI::App& app, CommandAction& action);
 void add_estimate_command(CLI::App& app, CommandAction& action);
 void add_slice_command(CLI::App& app, CommandAction& action);
 void add_export_command(CLI::App& app, CommandAction& action);
+void add_export_x3g_command(CLI::App& app, CommandAction& action);
 void add_print_command(CLI::App& app, CommandAction& action);
 // submit, jobs, watch, printers: clients of a running salientd.
 void add_client_commands(CLI::App& app, CommandAction& action);

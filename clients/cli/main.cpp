@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   salient::cli::add_estimate_command(app, action);
   salient::cli::add_slice_command(app, action);
   salient::cli::add_export_command(app, action);
+  salient::cli::add_export_x3g_command(app, action);
   salient::cli::add_print_command(app, action);
   salient::cli::add_client_commands(app, action);
   try {

@@ -33,6 +33,7 @@ struct Options {
   salient::protocol::sim::SimConfig config;
   std::string firmware = "marlin", faults, log_path, link_path, stats_path;
   int bufsize = 4;
+  bool quiet_errors = false;  // sailfish only
 };
 
 // The options Sailfish shares with Marlin carry over; a Marlin-only one is an error naming it.
@@ -43,6 +44,7 @@ int serve_sailfish(const CLI::App& app, const Options& o) {
       throw std::invalid_argument(std::string(marlin_only) +
                                   " is a Marlin option (not with --firmware sailfish)");
   salient::protocol::sim::SailfishServeOptions s;
+  s.config.error_replies = !o.quiet_errors;
   s.config.baud = o.config.baud;
   s.config.time_scale = o.config.time_scale;
   s.config.heat_time_scale = o.config.heat_time_scale;
@@ -156,6 +158,8 @@ int main(int argc, char** argv) {
   app.add_option("--firmware", o.firmware, "the board: marlin (G-code lines) or sailfish (s3g packets)")
       ->check(CLI::IsMember({"marlin", "sailfish"}))
       ->capture_default_str();
+  app.add_flag("--quiet-errors", o.quiet_errors,
+               "sailfish: no 80/83/84/8C replies, as Sailfish 7.7 really does (the host times out)");
   app.add_option("--rx-buffer", c.rx_buffer_bytes, "receive buffer in bytes (Marlin RX_BUFFER_SIZE)")
       ->capture_default_str();
   app.add_option("--bufsize", o.bufsize, "command queue slots (BUFSIZE)")
@@ -184,6 +188,10 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  }
+  if (o.quiet_errors && o.firmware != "sailfish") {
+    std::fprintf(stderr, "salient-sim: error: --quiet-errors needs --firmware sailfish\n");
+    return 1;
   }
   struct sigaction sa {};
   sa.sa_handler = on_signal;

@@ -12,6 +12,9 @@
 
 namespace salient::protocol::sim {
 
+// noise hits the start byte or the length of 2 packets in 35: the board then reads the rest as
+// stray bytes (80 each) and may open a "packet" at a D5 inside them, which swallows a resend sent
+// at once, the same way each time. A host that saw 80s waits out the 200 ms packet timeout.
 struct SailfishFaults {
   double noise = 0;               // chance that a received packet has one byte corrupted
   double reply_noise = 0;         // chance that a reply has one byte corrupted on the way back

@@ -77,6 +77,8 @@ std::string SailfishFirmware::take_output(Micros now) {
 // (k in 0…34, 0 the start byte, 1 the length) and folded onto its payload and CRC once its
 // length is known, so that every packet length is hit alike.
 std::uint8_t SailfishFirmware::corrupt_incoming(std::uint8_t byte) {
+  byte_host_at_ = -1;
+  byte_corrupted_ = false;
   if (host_at_ < 0) {
     if (byte != s3g::kStartByte) return byte;  // the host's own stray byte
     host_at_ = 0;
@@ -84,11 +86,14 @@ std::uint8_t SailfishFirmware::corrupt_incoming(std::uint8_t byte) {
     corrupt_at_ = chance(config_.faults.noise) ? std::uniform_int_distribution<int>(0, 34)(rng_) : -1;
   }
   const int at = host_at_++;
+  byte_host_at_ = at;
+  byte_corrupted_ = at == corrupt_at_;
   if (at == 1) {
     host_length_ = byte;
     if (corrupt_at_ > 1) corrupt_at_ = 2 + (corrupt_at_ - 2) % (host_length_ + 1);
   }
-  if ((at == 1 && (byte == 0 || byte > s3g::kMaxPayload)) || (at >= 2 && at == host_length_ + 2))
+  byte_ends_packet_ = at >= 2 && at == host_length_ + 2;
+  if ((at == 1 && (byte == 0 || byte > s3g::kMaxPayload)) || byte_ends_packet_)
     host_at_ = -1;  // the host's packet ends here
   if (at != corrupt_at_) return byte;
   ++stats_.packets_corrupted;
@@ -99,29 +104,38 @@ void SailfishFirmware::feed(std::uint8_t byte, Micros now) {
   if (decoder_.in_packet() && now - packet_started_ >= config_.packet_timeout) {
     decoder_.reset();
     ++stats_.packet_timeouts;
-    reply(code(Reply::packet_timeout), now);
+    link_error(Reply::packet_timeout, now);
   }
   byte = corrupt_incoming(byte);
   const bool was_in_packet = decoder_.in_packet();
   s3g::PacketDecoder::Result r = decoder_.feed(byte);
+  // Is the packet the decoder reads one the host sent, byte for byte?
+  packet_true_ = (was_in_packet ? packet_true_ && byte_host_at_ > 0 : byte_host_at_ == 0) && !byte_corrupted_;
   if (!was_in_packet) {
     if (decoder_.in_packet()) {
       packet_started_ = now;
     } else {
       ++stats_.stray_bytes;
-      reply(code(Reply::generic_error), now);
+      link_error(Reply::generic_error, now);
     }
     return;
   }
   if (r.error == s3g::PacketDecoder::Error::bad_length) {
     ++stats_.length_errors;
-    reply(code(Reply::packet_too_big), now);
+    link_error(Reply::packet_too_big, now);
   } else if (r.error == s3g::PacketDecoder::Error::bad_crc) {
     ++stats_.crc_errors;
-    reply(code(Reply::crc_mismatch), now);
+    link_error(Reply::crc_mismatch, now);
   } else if (r.payload) {
+    if (!packet_true_ || !byte_ends_packet_) ++stats_.false_packets;
     handle_packet(*r.payload, now);
   }
+}
+
+// A packet the board could not read: answered, or, as Sailfish 7.7 does, not (Host.cc has the
+// replies commented out), and the host waits for its reply timeout.
+void SailfishFirmware::link_error(s3g::Reply r, Micros now) {
+  if (config_.error_replies) reply(code(r), now);
 }
 
 void SailfishFirmware::reply(std::string payload, Micros now) {
@@ -521,6 +535,7 @@ void SailfishFirmware::cancel(Micros now) {
 // ---- heaters ----
 
 void SailfishFirmware::update_heaters(Micros now) {
+  if (now < heaters_at_) return;  // a driver's clock never goes back; if it did, time stands still
   const double scale = heat_scale();
   const double dt = static_cast<double>((now - heaters_at_).count()) / 1e6;
   heaters_at_ = now;
@@ -566,7 +581,7 @@ void SailfishFirmware::advance(Micros now) {
       now - packet_started_ >= config_.packet_timeout) {
     decoder_.reset();
     ++stats_.packet_timeouts;
-    reply(code(Reply::packet_timeout), now);
+    link_error(Reply::packet_timeout, now);
   }
   run(now);
 }

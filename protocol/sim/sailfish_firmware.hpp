@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "protocol/s3g/packet.hpp"
+#include "protocol/s3g/s3g_codes.hpp"
 #include "protocol/sim/sailfish_faults.hpp"
 #include "protocol/sim/wire.hpp"
 
@@ -50,11 +51,15 @@ struct SailfishConfig {
   double hotend_cool = 1, bed_cool = 0.25;  // °C/s cooling, slower
   double ambient = 21;
   double ready_band = 2;  // °C: a heater within this of its target is ready
-  // Steps per mm (GPX's r2x), for homing times, and the positions that homing and 144 set.
+  // Steps per mm (GPX's r2x), for homing times; the positions that homing and 144 set (plausible
+  // r2x home offsets: a real board keeps its own in EEPROM).
   std::array<double, 5> steps_per_mm{88.888889, 88.888889, 400, 96.2752018703, 96.2752018703};
   std::array<std::int32_t, 5> home_steps{13511, 6533, 0, 0, 0};
   std::array<double, 3> travel_mm{246, 152, 155};  // homing from an unknown position
   std::uint16_t firmware_version = 707, internal_version = 0;
+  // 80, 83, 84 and 8C are sent, as the shared host contract has it; false: silence instead, as
+  // Sailfish 7.7 really does.
+  bool error_replies = true;
   SailfishFaults faults;
 };
 
@@ -62,13 +67,17 @@ struct SailfishStats {
   long long executed = 0;           // actions started (the --log's lines)
   long long packets_received = 0;   // whole packets with a good CRC
   long long packets_corrupted = 0;  // by the noise fault
-  long long crc_errors = 0;         // 83 sent
-  long long length_errors = 0;      // 84 sent
-  long long packet_timeouts = 0;    // 8C sent
-  long long stray_bytes = 0;        // 80 sent
-  long long unsupported = 0;        // 85 sent
-  long long buffer_full_sent = 0;   // 82 sent, storms included
-  long long storm_refusals = 0;     // of those, refused by full-storm although they fit
+  // Taken although the host never sent it as such: noise that shortened a length and still passed
+  // the CRC (1 in 256), or a start byte inside the host's bytes. s3g cannot tell; a real board
+  // runs it too. Also counted in packets_received.
+  long long false_packets = 0;
+  long long crc_errors = 0;        // 83 sent
+  long long length_errors = 0;     // 84 sent
+  long long packet_timeouts = 0;   // 8C sent
+  long long stray_bytes = 0;       // 80 sent
+  long long unsupported = 0;       // 85 sent
+  long long buffer_full_sent = 0;  // 82 sent, storms included
+  long long storm_refusals = 0;    // of those, refused by full-storm although they fit
   long long replies_dropped = 0;
   long long replies_corrupted = 0;
   long long resets = 0;
@@ -84,11 +93,16 @@ class SailfishFirmware {
 
   explicit SailfishFirmware(SailfishConfig config);
 
+  // Times are the driver's clock; it never goes back.
+  // Bytes the host wrote at `now`: they reach the board at the wire's rate (config baud).
   void receive(std::string_view bytes, Micros now);
+  // Reads what has arrived, answers it, runs the ring: everything due by `now`.
   void advance(Micros now);
+  // Reply bytes that have reached the host by `now`.
   std::string take_output(Micros now);
   // Each executed action's payload in lowercase hex, in order (the --log's lines).
   std::vector<std::string> take_executed() { return std::exchange(executed_, {}); }
+  // When advance() next has something to do; Micros::max(): nothing until bytes come.
   Micros next_wakeup() const;
 
   State state() const { return state_; }
@@ -113,6 +127,7 @@ class SailfishFirmware {
   std::string tool_query(const std::string& payload) const;
   std::string queue_action(const std::string& payload);
   void reply(std::string payload, Micros now);
+  void link_error(s3g::Reply r, Micros now);
   void run(Micros now);
   bool finish_current(Micros now);
   void start(const std::string& action, Micros now);
@@ -140,6 +155,10 @@ class SailfishFirmware {
   // The noise fault follows the host's framing, not the decoder's: which byte of the packet
   // the host sent is next, how long that packet is, and which of its bytes gets changed.
   int host_at_ = -1, host_length_ = 0, corrupt_at_ = -1;
+  // The byte being fed: its place in the host's packet (-1: none), whether noise changed it,
+  // whether it is the host packet's last; and whether the decoder's packet is the host's so far.
+  int byte_host_at_ = -1;
+  bool byte_corrupted_ = false, byte_ends_packet_ = false, packet_true_ = false;
   std::string ring_;  // the command ring's bytes, head first
   // The action running, once started: when it ends (Micros::max() while a wait holds it).
   bool running_ = false;

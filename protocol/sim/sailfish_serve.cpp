@@ -33,13 +33,14 @@ void write_stats(const std::string& path, const SailfishStats& s, const char* en
   if (!f) return;
   std::fprintf(f,
                "{\"executed\": %lld, \"packets_received\": %lld, \"packets_corrupted\": %lld, "
+               "\"false_packets\": %lld, "
                "\"crc_errors\": %lld, \"length_errors\": %lld, \"packet_timeouts\": %lld, "
                "\"stray_bytes\": %lld, \"unsupported\": %lld, \"buffer_full_sent\": %lld, "
                "\"storm_refusals\": %lld, \"replies_dropped\": %lld, \"replies_corrupted\": %lld, "
                "\"resets\": %lld, \"bytes_ignored\": %lld, \"end\": \"%s\"}\n",
-               s.executed, s.packets_received, s.packets_corrupted, s.crc_errors, s.length_errors,
-               s.packet_timeouts, s.stray_bytes, s.unsupported, s.buffer_full_sent, s.storm_refusals,
-               s.replies_dropped, s.replies_corrupted, s.resets, s.bytes_ignored, end);
+               s.executed, s.packets_received, s.packets_corrupted, s.false_packets, s.crc_errors,
+               s.length_errors, s.packet_timeouts, s.stray_bytes, s.unsupported, s.buffer_full_sent,
+               s.storm_refusals, s.replies_dropped, s.replies_corrupted, s.resets, s.bytes_ignored, end);
   std::fclose(f);
 }
 

@@ -328,6 +328,23 @@ TEST_CASE("a stray byte gets 80, a bad CRC 83, a length of 0 or over 32 gets 84"
   CHECK(code(fw, bytes({2}), t) == 0x81);  // and the board goes on
 }
 
+TEST_CASE("with error_replies off the board is silent on what it cannot read, as Sailfish 7.7 is") {
+  SailfishConfig c;
+  c.error_replies = false;
+  SailfishFirmware fw(c);
+  std::string bad = s3g::frame(bytes({2}));
+  bad.back() = static_cast<char>(bad.back() ^ 1);
+  fw.receive(bytes({0x01}) + bad + bytes({0xD5, 40}) + bytes({0xD5, 1}), Micros{0});
+  fw.advance(Micros{0});
+  fw.advance(ms(200));
+  CHECK(fw.take_output(ms(200)).empty());
+  CHECK(fw.stats().stray_bytes == 1);
+  CHECK(fw.stats().crc_errors == 1);
+  CHECK(fw.stats().length_errors == 1);
+  CHECK(fw.stats().packet_timeouts == 1);
+  CHECK(code(fw, bytes({2}), ms(201)) == 0x81);
+}
+
 TEST_CASE("an unknown action id is acked and stalls the ring for ever, as on the board") {
   SailfishFirmware fw({});
   Micros t{0};
@@ -629,4 +646,74 @@ TEST_CASE("at 115200 baud a packet is read when its last byte has arrived, and i
   CHECK(fw.next_wakeup() == Micros{695 + 348});  // the 4-byte reply
   CHECK(fw.take_output(Micros{1000}).size() == 3);
   CHECK(replies(fw.take_output(Micros{1043})).empty());
+}
+
+// The host's side of noise: a lone 83 or 8C means the board read the host's packet boundaries and
+// is in step; anything else (80s, several replies) means its start byte or length was hit, and the
+// board may now be inside a "packet" that began at a D5 within the host's bytes, which would
+// swallow a quick resend, and the same way each time. The host waits out the packet timeout.
+TEST_CASE(
+    "under noise a host that resends, waiting out the packet timeout when out of step, runs each action "
+    "once") {
+  SailfishConfig c;
+  c.faults = parse_sailfish_faults("noise=0.02,seed=21");
+  SailfishFirmware fw(c);
+  std::mt19937_64 rng(5);
+  std::vector<std::string> sent;
+  Micros t{0};
+  long long resends = 0, waits = 0;
+  for (int i = 0; i < 20000; ++i) {
+    std::array<std::int32_t, 5> p{};
+    for (auto& v : p) v = static_cast<std::int32_t>(rng() % 40000) - 20000;
+    const std::string a = point(p, 1000 + static_cast<std::uint32_t>(rng() % 9000), 0x18, 10.0f, 3200);
+    for (int tries = 0;; ++tries) {
+      REQUIRE(tries < 10);
+      fw.receive(s3g::frame(a), t);
+      fw.advance(t);
+      auto r = replies(fw.take_output(t));
+      if (r.empty()) {  // a lengthened packet: it times out
+        t += ms(200);
+        fw.advance(t);
+        r = replies(fw.take_output(t));
+      }
+      REQUIRE(!r.empty());
+      t += ms(1);
+      if (r.size() == 1 && r[0] == bytes({0x81})) break;
+      for (const auto& one : r) REQUIRE(one != bytes({0x81}));
+      ++resends;
+      if (r.size() == 1 && (r[0] == bytes({0x83}) || r[0] == bytes({0x8C}))) continue;
+      ++waits;
+      t += ms(250);
+      fw.advance(t);
+      fw.take_output(t);
+    }
+    sent.push_back(hex(a));
+  }
+  CHECK(fw.take_executed() == sent);
+  CHECK(fw.stats().false_packets == 0);
+  CHECK(resends >= fw.stats().packets_corrupted);
+  CHECK(fw.stats().packets_corrupted > 300);
+  CHECK(waits > 0);
+  CHECK(waits < resends / 4);
+}
+
+TEST_CASE("after a lost start byte a D5 inside the payload opens a packet that swallows a quick resend") {
+  SailfishFirmware fw({});
+  // A move whose X is 0x000020D5: its payload holds D5 20, the start of a 32-byte "packet".
+  const std::string a = point({0x20D5, 0, 0, 0, 0}, 1000, 0x18, 1.0f, 64);
+  const std::string f = s3g::frame(a);
+  REQUIRE(f.find("\xD5\x20", 1) == 3);
+  fw.receive(f.substr(1), Micros{0});  // the start byte was lost on the line
+  fw.advance(Micros{0});
+  // Its length and id are stray bytes; then the inner packet waits for 2 more bytes and its CRC.
+  CHECK(replies(fw.take_output(Micros{0})) == std::vector<std::string>{bytes({0x80}), bytes({0x80})});
+  // Resent at once, its start, length and id complete the open packet (bad CRC: a lone 83, as if
+  // in step), and from its own D5 20 on it opens the same packet again, the same way each time.
+  for (int i = 1; i <= 3; ++i) CHECK(ask(fw, a, ms(i)) == std::vector<std::string>{bytes({0x83})});
+  CHECK(fw.take_executed().empty());
+  // Waiting out the packet timeout puts it back in step.
+  fw.advance(ms(203));
+  CHECK(replies(fw.take_output(ms(203))) == std::vector<std::string>{bytes({0x8C})});
+  CHECK(code(fw, a, ms(204)) == 0x81);
+  CHECK(fw.take_executed() == std::vector<std::string>{hex(a)});
 }

@@ -311,6 +311,18 @@ TEST_CASE("salient-sim sailfish refuses a Marlin option and a bad fault by name"
     CHECK(exit_status(pid) == 1);
     CHECK(said.find("salient-sim: error: " + message) != std::string::npos);
   }
+  {
+    int err[2];
+    REQUIRE(::pipe(err) == 0);
+    const pid_t marlin = spawn({kProgram, "--quiet-errors"}, err[1], err[1]);
+    ::close(err[1]);
+    std::string said;
+    char b[4096];
+    for (ssize_t n; (n = ::read(err[0], b, sizeof b)) > 0;) said.append(b, static_cast<std::size_t>(n));
+    ::close(err[0]);
+    CHECK(exit_status(marlin) == 1);
+    CHECK(said.find("--quiet-errors needs --firmware sailfish") != std::string::npos);
+  }
   int out[2];
   REQUIRE(::pipe(out) == 0);
   const pid_t pid = spawn({kProgram, "--help"}, out[1], -1);
@@ -320,7 +332,7 @@ TEST_CASE("salient-sim sailfish refuses a Marlin option and a bad fault by name"
   for (ssize_t n; (n = ::read(out[0], buf, sizeof buf)) > 0;) help.append(buf, static_cast<std::size_t>(n));
   ::close(out[0]);
   CHECK(exit_status(pid) == 0);
-  for (const char* fault : {"--firmware", "reply-noise=P", "drop-reply=P", "full-storm=P", "reset-at=N",
-                            "cancel-at=N", "heater-fault-at=N", "silent-after=N"})
+  for (const char* fault : {"--firmware", "--quiet-errors", "reply-noise=P", "drop-reply=P", "full-storm=P",
+                            "reset-at=N", "cancel-at=N", "heater-fault-at=N", "silent-after=N"})
     CHECK(help.find(fault) != std::string::npos);
 }

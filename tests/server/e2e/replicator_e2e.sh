@@ -1,0 +1,102 @@
+#!/usr/bin/env bash
+# salientd with a simulated Replicator 2X, end to end: the replicator2x profile makes the printer
+# speak s3g to a simulated Sailfish board (lost replies and buffer-full storms on the wire); a job
+# sliced for it prints, and the board executed exactly the x3g that `salient export-x3g` (= gpx)
+# writes for the job's G-code; an OctoPrint upload prints through the same routes; a cancel ends
+# the print with the heaters off.
+#   replicator_e2e.sh SALIENTD SALIENT MODELS_DIR WORKDIR
+set -euo pipefail
+salientd=$1 salient=$2 models=$3 work=$4
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+. "$here/../../support/salientd.sh"
+trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null || true' EXIT
+api() { curl -s -H "X-Api-Key: $key" "$@"; }
+printer() { api "$base/api/v1/printers/r2x" | field "$1"; }
+wait_printer() {  # wait_printer STATE [SECONDS]
+  for _ in $(seq $((${2:-120} * 10))); do
+    [ "$(printer "['state']")" = "$1" ] && return 0
+    sleep 0.1
+  done
+  fail "printer never became $1: $(api "$base/api/v1/printers/r2x")"
+}
+wait_print() {  # wait_print STATE: the last print ended so
+  for _ in $(seq 3000); do
+    [ "$(printer "['last_print']['state'] if d['last_print'] else ''")" = "$1" ] && return 0
+    sleep 0.1
+  done
+  fail "the print never became $1: $(api "$base/api/v1/printers/r2x")"
+}
+# executed_is X3G LOG: the board's log (hex payloads, a line each) is the file's actions, once each.
+executed_is() {
+  python3 - "$1" "$2" <<'PY'
+import sys
+want = open(sys.argv[1], "rb").read().hex()
+got = "".join(l.strip() for l in open(sys.argv[2]))
+if got != want:
+    i = next((i for i, (a, b) in enumerate(zip(got, want)) if a != b), min(len(got), len(want)))
+    print(f"log {len(got) // 2} bytes, x3g {len(want) // 2}; first difference at byte {i // 2}")
+    sys.exit(1)
+print(f"{sys.argv[1]}: {len(want) // 2} bytes of actions executed, exactly once each")
+PY
+}
+
+cat > r2x.toml <<TOML
+[[printers]]
+id = "r2x"
+kind = "sim"
+profile = "replicator2x"
+sim_args = "--firmware sailfish --time-scale 0 --heat-time-scale 0 --log $PWD/r2x.log --faults drop-reply=0.005,full-storm=0.01,seed=5"
+TOML
+start r2x.toml
+wait_printer operational
+[ "$(printer "['protocol']")" = s3g ] || fail "protocol: $(printer "['protocol']")"
+printer "['firmware']" | grep -q Sailfish || fail "firmware: $(printer "['firmware']")"
+
+# 1. A job sliced for the Replicator, printed on it.
+id=$(api -F "file=@$models/stanford-bunny.obj" -F 'settings={"printer": "replicator2x", "up": "y", "height": 12}' \
+  "$base/api/v1/jobs" | field "['id']")
+for _ in $(seq 1200); do
+  s=$(api "$base/api/v1/jobs/$id" | field "['state']")
+  [ "$s" = done ] && break
+  case $s in failed|cancelled) fail "job $id ended $s";; esac
+  sleep 0.1
+done
+[ "$s" = done ] || fail "job $id never done"
+api -f -o job.gcode "$base/api/v1/jobs/$id/gcode" || fail "gcode download"
+grep -q "M132 X Y Z A B" job.gcode || fail "the job's G-code is not the Replicator profile's"
+# The daemon names the build after the printer: so does export-x3g for an output called r2x.x3g.
+"$salient" export-x3g job.gcode -o r2x.x3g > export.out || fail "export-x3g: $(cat export.out)"
+api -f -o print.json -d "{\"job\": \"$id\"}" "$base/api/v1/printers/r2x/print" || fail "print: $(cat print.json)"
+wait_print finished
+[ "$(printer "['last_print']['confirmed'] == d['last_print']['total']")" = True ] || fail "print not complete"
+eventually 60 executed_is r2x.x3g r2x.log || fail "the board did not execute the job's x3g exactly once"
+
+# 2. The same G-code uploaded as OctoPrint clients do, printed on the first printer: r2x.
+: > r2x.log.before && cp r2x.log r2x.log.before
+code=$(api -o upload.json -w '%{http_code}' -F "file=@job.gcode;filename=part.gcode" -F print=true "$base/api/files/local")
+[ "$code" = 201 ] || fail "upload: $code $(cat upload.json)"
+wait_printer printing 30 || true
+wait_print finished
+cat r2x.x3g r2x.x3g > twice.x3g
+eventually 60 executed_is twice.x3g r2x.log || fail "the upload's print is not the x3g again"
+
+# 3. Cancel mid-print (real-time moves): the print ends cancelled, the board's heaters off.
+stop
+sed -i 's/--time-scale 0 --heat-time-scale 0/--time-scale 1 --heat-time-scale 0/; s/r2x.log/r2x-cancel.log/' r2x.toml
+start r2x.toml
+wait_printer operational
+api -f -o print.json -d "{\"job\": \"$id\"}" "$base/api/v1/printers/r2x/print" || fail "print: $(cat print.json)"
+for _ in $(seq 300); do [ "$(printer "['print']['confirmed']")" -gt 50 ] 2>/dev/null && break; sleep 0.1; done
+api -f -o cancel.json -X POST "$base/api/v1/printers/r2x/cancel" || fail "cancel: $(cat cancel.json)"
+t0=$SECONDS
+wait_print cancelled
+echo "cancelled in $((SECONDS - t0)) s"
+temps=$(printer "['temperatures']")
+python3 -c "
+import ast, sys
+t = ast.literal_eval(sys.argv[1])
+assert t.get('hotend_target', 0) == 0 and t.get('bed_target', 0) == 0, t
+" "$temps" 2>/dev/null || eventually 10 sh -c "curl -s -H 'X-Api-Key: $key' $base/api/v1/printers/r2x | grep -q '\"hotend_target\":0'" \
+  || fail "heaters still on after the cancel: $temps"
+echo "replicator e2e: ok"
