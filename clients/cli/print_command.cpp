@@ -19,8 +19,10 @@
 #include "core/common/input_error.hpp"
 #include "core/gcode/time_estimator.hpp"
 #include "protocol/gcode/program.hpp"
+#include "protocol/s3g/machine.hpp"
 #include "protocol/s3g/x3g_commands.hpp"
 #include "protocol/s3g/x3g_program.hpp"
+#include "protocol/s3g/x3g_translator.hpp"
 #include "protocol/serial/marlin_link.hpp"
 #include "protocol/serial/s3g_link.hpp"
 
@@ -36,7 +38,7 @@ void on_interrupt(int) {
 }
 
 struct PrintOptions {
-  std::string file, port, tcp, protocol = "marlin";
+  std::string file, port, tcp, protocol = "marlin", machine = "r2x";
   unsigned baud = 250000;
   bool reset = false, json = false, quiet = false;
   std::size_t resume_from = 0;
@@ -67,9 +69,35 @@ std::string temperature(const std::optional<double>& t, const std::optional<doub
   return buf;
 }
 
-// G-code → x3g for `--protocol s3g` with a .gcode file: empty until the translator is wired in.
-std::function<protocol::s3g::X3gProgram(const protocol::Program&)> s3g_translator() {
-  return {};
+// The progress line of a G-code print: commands, layer, temperatures and the time left from the
+// estimate of the layers to go.
+void draw_gcode_progress(const protocol::Program& commands, const core::GcodeEstimate& estimate,
+                         const Progress& progress) {
+  const std::size_t total = commands.size(), layers = commands.layers();
+  const std::size_t done = std::min(progress.done, total);
+  const std::size_t layer = done < total ? commands[done].layer : (layers ? layers - 1 : 0);
+  double left = 0;
+  for (std::size_t l = layer + 1; l < estimate.layer_seconds.size(); ++l) left += estimate.layer_seconds[l];
+  if (layer < estimate.layer_seconds.size()) {
+    std::size_t first = done, last = done;
+    while (first > 0 && commands[first - 1].layer == layer) --first;
+    while (last < total && commands[last].layer == layer) ++last;
+    const double share = last > first ? double(last - done) / double(last - first) : 0;
+    left += estimate.layer_seconds[layer] * share;
+  }
+  const int width = 30;
+  const int filled = total ? static_cast<int>(width * done / total) : width;
+  std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %zu/%zu  layer %zu/%zu  hotend %s  bed %s  left %s ", filled,
+               "##############################", width - filled, "",
+               total ? 100.0 * double(done) / double(total) : 100.0, done, total, layer + 1, layers,
+               temperature(progress.hotend, progress.hotend_target).c_str(),
+               temperature(progress.bed, progress.bed_target).c_str(), hms(left).c_str());
+}
+
+std::string known_machines() {
+  std::string list;
+  for (const std::string& id : protocol::s3g::machine_ids()) list += (list.empty() ? "" : ", ") + id;
+  return list;
 }
 
 bool is_x3g(const std::string& file) {
@@ -180,8 +208,9 @@ int print_s3g(const PrintOptions& o, unsigned baud, bool timeout_given) {
   serial::S3gLinkConfig config;
   if (timeout_given) config.session.reply_timeout = s3g::Millis(static_cast<long long>(o.timeout * 1000));
   config.session.silence_limit = s3g::Millis(static_cast<long long>(o.silence * 1000));
-  config.translate = s3g_translator();
   std::shared_ptr<const s3g::X3gProgram> program;
+  std::shared_ptr<const protocol::Program> gcode;  // a G-code file: its layers drive the progress line
+  core::GcodeEstimate estimate;
   if (is_x3g(o.file)) {
     try {
       program = std::make_shared<const s3g::X3gProgram>(s3g::X3gProgram::from_x3g(bytes));
@@ -189,10 +218,21 @@ int print_s3g(const PrintOptions& o, unsigned baud, bool timeout_given) {
       throw core::InputError(name, {}, std::string("not an x3g file: ") + e.what());
     }
   } else {
-    if (!config.translate)
-      throw core::InputError(
-          name, {}, "G-code over s3g needs the translator: convert it first (gpx) and print the .x3g");
-    program = std::make_shared<const s3g::X3gProgram>(config.translate(protocol::Program::parse(bytes)));
+    const s3g::Machine* machine = s3g::find_machine(o.machine);
+    if (!machine)
+      throw core::InputError("--machine", {},
+                             "unknown machine '" + o.machine + "' (known: " + known_machines() + ")");
+    estimate = core::estimate_gcode(bytes, name);
+    gcode = std::make_shared<const protocol::Program>(protocol::Program::parse(bytes));
+    s3g::TranslateOptions options;
+    options.build_name = s3g::build_name_for(o.file);
+    options.source = bytes;  // comments: M70/M71 messages, as gpx reads them
+    s3g::Translation t = s3g::translate_gcode(*gcode, *machine, options);
+    if (!o.quiet)
+      for (const auto& skip : t.skipped)
+        std::fprintf(stderr, "salient: warning: %s:%zu: skipped '%s': %s\n", name.c_str(), skip.line,
+                     skip.command.c_str(), skip.reason.c_str());
+    program = std::make_shared<const s3g::X3gProgram>(std::move(t.program));
   }
   std::string().swap(bytes);
   if (o.resume_from > program->commands)
@@ -214,6 +254,7 @@ int print_s3g(const PrintOptions& o, unsigned baud, bool timeout_given) {
       link, tty, progress,
       [&](const protocol::LinkEventFn& on_event) { return link.print_x3g(program, on_event, o.resume_from); },
       [&] {
+        if (gcode) return draw_gcode_progress(*gcode, estimate, progress);
         // No layers in an x3g file: the time left is extrapolated from the rate so far.
         const std::size_t total = program->commands, done = std::min(progress.done, total);
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -250,6 +291,8 @@ void add_print_command(CLI::App& app, CommandAction& action) {
   cmd->add_option("--protocol", o->protocol, "marlin (G-code lines) or s3g (MakerBot/Sailfish packets)")
       ->capture_default_str()
       ->check(CLI::IsMember({"marlin", "s3g"}));
+  cmd->add_option("--machine", o->machine, "s3g: the machine a G-code file is translated for (GPX's ids)")
+      ->capture_default_str();
   cmd->add_flag("--reset", o->reset, "Pulse DTR first (boards with auto-reset reboot)");
   cmd->add_option("--resume-from", o->resume_from,
                   "Skip the first N commands (the count confirmed when a print was cut off) after restoring "
@@ -287,7 +330,6 @@ void add_print_command(CLI::App& app, CommandAction& action) {
       const auto program = std::make_shared<const protocol::Program>(protocol::Program::parse(gcode));
       std::string().swap(gcode);  // the program is what stays in memory while it prints
       const protocol::Program& commands = *program;
-      const std::size_t layers = commands.layers();
       if (o->resume_from > commands.size())
         throw core::InputError("--resume-from", {},
                                "the file has only " + std::to_string(commands.size()) + " commands");
@@ -313,28 +355,7 @@ void add_print_command(CLI::App& app, CommandAction& action) {
           [&](const protocol::LinkEventFn& on_event) {
             return link.print(program, on_event, o->resume_from);
           },
-          [&] {
-            const std::size_t total = commands.size();
-            const std::size_t done = std::min(progress.done, total);
-            const std::size_t layer = done < total ? commands[done].layer : (layers ? layers - 1 : 0);
-            double left = 0;
-            for (std::size_t l = layer + 1; l < estimate.layer_seconds.size(); ++l)
-              left += estimate.layer_seconds[l];
-            if (layer < estimate.layer_seconds.size()) {
-              std::size_t first = done, last = done;
-              while (first > 0 && commands[first - 1].layer == layer) --first;
-              while (last < total && commands[last].layer == layer) ++last;
-              const double share = last > first ? double(last - done) / double(last - first) : 0;
-              left += estimate.layer_seconds[layer] * share;
-            }
-            const int width = 30;
-            const int filled = total ? static_cast<int>(width * done / total) : width;
-            std::fprintf(stderr, "\r[%.*s%*s] %5.1f%%  %zu/%zu  layer %zu/%zu  hotend %s  bed %s  left %s ",
-                         filled, "##############################", width - filled, "",
-                         total ? 100.0 * double(done) / double(total) : 100.0, done, total, layer + 1, layers,
-                         temperature(progress.hotend, progress.hotend_target).c_str(),
-                         temperature(progress.bed, progress.bed_target).c_str(), hms(left).c_str());
-          });
+          [&] { draw_gcode_progress(commands, estimate, progress); });
       return report(*o, name, result, fw.name, "lines", "");
     };
   });

@@ -4,6 +4,7 @@
 # The x3g is GPX's (gpx -I -q -m r2x) for slicer-shaped G-code. The simulator logs each executed
 # action's payload in hex: the log is compared with the file's bytes.
 # MODE full: noise both ways and lost replies; the whole file runs, each action once.
+# MODE gcode: the G-code file itself, translated on the fly: the board runs what gpx wrote.
 # MODE interrupt: Ctrl-C mid-print: exit 130, the last actions are heaters off and motors off.
 # MODE reset: the board resets mid-print: exit 1 with a --resume-from count; resuming on a fresh
 #   board prints exactly the rest of the file after the resume prelude.
@@ -51,6 +52,12 @@ case $mode in
     sleep 0.3; kill $simpid; wait $simpid || true
     diff -q sim.log actions.txt
     grep -q "printed $total commands" out.txt ;;
+  gcode)
+    "$salient" print p.gcode --port "$dev" --protocol s3g --quiet > out.txt || status=$?
+    [ $status -eq 0 ] || { echo "exit $status"; cat out.txt; exit 1; }
+    sleep 0.3; kill $simpid; wait $simpid || true
+    diff -q sim.log actions.txt
+    grep -q "printed $(grep -cv '^ *$' p.gcode) commands" out.txt ;;
   interrupt)
     "$salient" print p.x3g --port "$dev" --protocol s3g --quiet > out.txt &
     pid=$!
