@@ -295,3 +295,15 @@ TEST_CASE("s3g link: pause and resume mid-print, the log still exact") {
   CHECK(run.result.end == PrintEnd::finished);
   CHECK(run.log == hex_of(p->actions));
 }
+
+TEST_CASE("s3g link: a board that meets noise with silence (as Sailfish 7.7 does), every action once") {
+  if (!ready()) return;
+  const auto p = x3g_of(3000);
+  std::vector<std::string> args = with(kFast, "noise=0.01,reply-noise=0.01,seed=4");
+  args.push_back("--quiet-errors");
+  const Run run = print_to(args, p);
+  INFO(run.result.reason);
+  CHECK(run.result.end == PrintEnd::finished);
+  CHECK(run.result.pokes > 10);  // the noise cost timeouts, not error replies
+  CHECK(run.log == hex_of(p->actions));
+}
