@@ -307,3 +307,21 @@ TEST_CASE("s3g link: a board that meets noise with silence (as Sailfish 7.7 does
   CHECK(run.result.pokes > 10);  // the noise cost timeouts, not error replies
   CHECK(run.log == hex_of(p->actions));
 }
+
+TEST_CASE("s3g link: cancel while paused still turns the heaters and motors off") {
+  if (!ready()) return;
+  const auto p = x3g_of(20000);
+  const Run run =
+      print_to({"--time-scale", "0.01", "--heat-time-scale", "0.001"}, p, 0, [](serial::S3gLink& l) {
+        std::this_thread::sleep_for(milliseconds(1000));
+        l.pause();
+        std::this_thread::sleep_for(milliseconds(800));
+        l.cancel();
+      });
+  CHECK(run.result.end == PrintEnd::cancelled);
+  REQUIRE(run.log.size() >= 3);
+  const std::size_t n = run.log.size();
+  CHECK(run.log[n - 3] == "880003020000");
+  CHECK(run.log[n - 2] == "88001f020000");
+  CHECK(run.log[n - 1] == "891f");
+}
