@@ -1,6 +1,8 @@
 #include "server/printers/printer_connection.hpp"
 
+#include "protocol/s3g/x3g_translator.hpp"
 #include "protocol/serial/marlin_link.hpp"
+#include "protocol/serial/s3g_link.hpp"
 #include "server/printers/terminal_tap.hpp"
 
 namespace salient::server {
@@ -30,11 +32,24 @@ PrinterConnection open_printer_connection(const PrinterConfig& config, TerminalH
       std::move(transport), [wanted = std::move(wanted)] { return wanted && wanted(); },
       [line = std::move(line)](bool sent, std::string_view l) {
         if (line) line(sent, l);
-      });
+      },
+      config.protocol == PrinterProtocol::s3g);
   switch (config.protocol) {
     case PrinterProtocol::marlin:
       c.link = std::make_unique<serial::MarlinLink>(std::move(tap));
       break;
+    case PrinterProtocol::s3g: {
+      const protocol::s3g::Machine* machine = protocol::s3g::find_machine(config.machine);
+      if (!machine) throw std::runtime_error("unknown s3g machine '" + config.machine + "'");
+      serial::S3gLinkConfig s3g;
+      // The G-code of a job or a file becomes x3g on the way; what the translator cannot handle
+      // was refused when the file was taken (printable_program), so nothing is lost here.
+      s3g.translate = [machine, name = config.id](const protocol::Program& program) {
+        return protocol::s3g::translate_gcode(program, *machine, {.build_name = name}).program;
+      };
+      c.link = std::make_unique<serial::S3gLink>(std::move(tap), std::move(s3g));
+      break;
+    }
   }
   return c;
 }

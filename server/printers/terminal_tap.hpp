@@ -1,6 +1,7 @@
 // TerminalTap: a Transport that passes everything through and tells, line by line, what went to
 // the printer and what came back — the daemon's terminal/{id} topic. `wanted` is asked before each
-// chunk so that nothing is split or formatted while nobody watches.
+// chunk so that nothing is split or formatted while nobody watches. A binary protocol (s3g) is told
+// in hex, a line per write (one packet) and per chunk read.
 #pragma once
 
 #include <functional>
@@ -16,22 +17,34 @@ class TerminalTap : public protocol::serial::Transport {
  public:
   using LineFn = std::function<void(bool sent, std::string_view line)>;
   TerminalTap(std::unique_ptr<protocol::serial::Transport> inner, std::function<bool()> wanted,
-              LineFn on_line)
-      : inner_(std::move(inner)), wanted_(std::move(wanted)), on_line_(std::move(on_line)) {}
+              LineFn on_line, bool binary = false)
+      : inner_(std::move(inner)), wanted_(std::move(wanted)), on_line_(std::move(on_line)), binary_(binary) {}
 
   void write(std::string_view bytes) override {
     inner_->write(bytes);
-    if (wanted_()) split(bytes, sent_partial_, true);
+    if (wanted_()) tell(bytes, sent_partial_, true);
   }
   std::string read(std::chrono::microseconds timeout) override {
     std::string bytes = inner_->read(timeout);
-    if (!bytes.empty() && wanted_()) split(bytes, received_partial_, false);
+    if (!bytes.empty() && wanted_()) tell(bytes, received_partial_, false);
     return bytes;
   }
   void discard_input() override { inner_->discard_input(); }
   std::string describe() const override { return inner_->describe(); }
 
  private:
+  void tell(std::string_view bytes, std::string& partial, bool sent) {
+    if (!binary_) return split(bytes, partial, sent);
+    static constexpr char digits[] = "0123456789abcdef";
+    std::string hex;
+    for (unsigned char b : bytes.substr(0, 64)) {
+      if (!hex.empty()) hex += ' ';
+      hex += digits[b >> 4];
+      hex += digits[b & 15];
+    }
+    if (bytes.size() > 64) hex += " …";
+    on_line_(sent, hex);
+  }
   void split(std::string_view bytes, std::string& partial, bool sent) {
     partial.append(bytes);
     std::size_t start = 0;
@@ -47,6 +60,7 @@ class TerminalTap : public protocol::serial::Transport {
   std::unique_ptr<protocol::serial::Transport> inner_;
   std::function<bool()> wanted_;
   LineFn on_line_;
+  bool binary_;
   std::string sent_partial_, received_partial_;
 };
 

@@ -20,9 +20,9 @@ wait_printer() {  # wait_printer STATE [SECONDS]
   done
   fail "printer never became $1: $(api "$base/api/v1/printers/r2x")"
 }
-wait_print() {  # wait_print STATE: the last print ended so
+wait_print() {  # wait_print STATE [AFTER_ID]: the last print (a later one than AFTER_ID) ended so
   for _ in $(seq 3000); do
-    [ "$(printer "['last_print']['state'] if d['last_print'] else ''")" = "$1" ] && return 0
+    [ "$(printer "(d['last_print']['state'] if d['last_print'] and d['last_print']['id'] != ${2:-0} else '')")" = "$1" ] && return 0
     sleep 0.1
   done
   fail "the print never became $1: $(api "$base/api/v1/printers/r2x")"
@@ -46,7 +46,7 @@ cat > r2x.toml <<TOML
 id = "r2x"
 kind = "sim"
 profile = "replicator2x"
-sim_args = "--firmware sailfish --time-scale 0 --heat-time-scale 0 --log $PWD/r2x.log --faults drop-reply=0.005,full-storm=0.01,seed=5"
+sim_args = "--firmware sailfish --time-scale 0 --heat-time-scale 0 --log $PWD/r2x.log --faults drop-reply=0.002,full-storm=0.01,seed=5"
 TOML
 start r2x.toml
 wait_printer operational
@@ -54,7 +54,7 @@ wait_printer operational
 printer "['firmware']" | grep -q Sailfish || fail "firmware: $(printer "['firmware']")"
 
 # 1. A job sliced for the Replicator, printed on it.
-id=$(api -F "file=@$models/stanford-bunny.obj" -F 'settings={"printer": "replicator2x", "up": "y", "height": 12}' \
+id=$(api -F "file=@$models/stanford-bunny.obj" -F 'settings={"printer": "replicator2x", "up": "y", "height": 8}' \
   "$base/api/v1/jobs" | field "['id']")
 for _ in $(seq 1200); do
   s=$(api "$base/api/v1/jobs/$id" | field "['state']")
@@ -73,11 +73,10 @@ wait_print finished
 eventually 60 executed_is r2x.x3g r2x.log || fail "the board did not execute the job's x3g exactly once"
 
 # 2. The same G-code uploaded as OctoPrint clients do, printed on the first printer: r2x.
-: > r2x.log.before && cp r2x.log r2x.log.before
+first=$(printer "['last_print']['id']")
 code=$(api -o upload.json -w '%{http_code}' -F "file=@job.gcode;filename=part.gcode" -F print=true "$base/api/files/local")
 [ "$code" = 201 ] || fail "upload: $code $(cat upload.json)"
-wait_printer printing 30 || true
-wait_print finished
+wait_print finished "$first"
 cat r2x.x3g r2x.x3g > twice.x3g
 eventually 60 executed_is twice.x3g r2x.log || fail "the upload's print is not the x3g again"
 
@@ -92,11 +91,8 @@ api -f -o cancel.json -X POST "$base/api/v1/printers/r2x/cancel" || fail "cancel
 t0=$SECONDS
 wait_print cancelled
 echo "cancelled in $((SECONDS - t0)) s"
-temps=$(printer "['temperatures']")
-python3 -c "
-import ast, sys
-t = ast.literal_eval(sys.argv[1])
-assert t.get('hotend_target', 0) == 0 and t.get('bed_target', 0) == 0, t
-" "$temps" 2>/dev/null || eventually 10 sh -c "curl -s -H 'X-Api-Key: $key' $base/api/v1/printers/r2x | grep -q '\"hotend_target\":0'" \
-  || fail "heaters still on after the cancel: $temps"
+heaters_off() {  # the targets the board reports (polled by the link) are 0
+  [ "$(printer "['temperatures']['hotend']['target'] in (0, None) and d['temperatures']['bed']['target'] in (0, None)")" = True ]
+}
+eventually 15 heaters_off || fail "heaters still on after the cancel: $(printer "['temperatures']")"
 echo "replicator e2e: ok"
