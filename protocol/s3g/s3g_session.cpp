@@ -1,6 +1,7 @@
 #include "protocol/s3g/s3g_session.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <stdexcept>
 #include <utility>
@@ -140,9 +141,27 @@ void S3gSession::send(Packet p, Millis now) {
   output_ += frame(p.payload);
   in_flight_packet_ = std::move(p);
   in_flight_ = true;
-  reply_deadline_ = now + config_.reply_timeout;
+  sent_at_ = now;
+  sample_reply_ = in_flight_packet_->tries == 0;
+  reply_deadline_ = now + reply_wait();
   decoder_.reset();
   got_bytes_ = false;
+}
+
+Millis S3gSession::reply_wait() const {
+  if (!have_rtt_) return config_.reply_timeout;
+  const auto rto = Millis(static_cast<long long>(srtt_ms_ + 4 * rttvar_ms_ + 1));
+  return std::clamp(rto, std::min(config_.min_reply_timeout, config_.reply_timeout), config_.reply_timeout);
+}
+
+void S3gSession::sample_reply_time(Millis sample) {
+  const double r = static_cast<double>(sample.count());
+  if (!have_rtt_) {
+    srtt_ms_ = r, rttvar_ms_ = r / 2, have_rtt_ = true;
+  } else {
+    rttvar_ms_ = 0.75 * rttvar_ms_ + 0.25 * std::abs(srtt_ms_ - r);
+    srtt_ms_ = 0.875 * srtt_ms_ + 0.125 * r;
+  }
 }
 
 void S3gSession::pump(Millis now) {
@@ -234,6 +253,7 @@ void S3gSession::on_receive(std::string_view bytes, Millis now) {
     const PacketDecoder::Result r = decoder_.feed(static_cast<std::uint8_t>(bytes[i]));
     if (r.payload) {
       in_flight_ = false;
+      if (sample_reply_) sample_reply_time(now - sent_at_);
       on_reply(*r.payload, now);
       if (i + 1 < bytes.size()) quiet_ = true, quiet_until_ = now + config_.quiet_gap;  // more than one reply
     } else if (r.error != PacketDecoder::Error::none) {

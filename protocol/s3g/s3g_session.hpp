@@ -38,10 +38,16 @@ using Millis = std::chrono::milliseconds;  // time since any fixed epoch, from t
 enum class SessionState { idle, printing, paused, finished, failed, cancelled };
 
 struct SessionConfig {
-  Millis reply_timeout{1000};  // for a reply's first byte (pyS3g and GPX use 1 s)
-  Millis byte_timeout{100};    // between the bytes of one reply, and after bytes that made none
-  Millis quiet_gap{5};         // after a doubt, the line must be quiet this long before we send
-  int max_resends = 5;         // of one packet on 80/83/88/8C
+  // The wait for a reply's first byte adapts to the replies seen, as TCP's retransmission timer
+  // does (RFC 6298: srtt + 4·rttvar), within [min_reply_timeout, reply_timeout]: a board answers
+  // every packet at once (an action that does not fit is 82, not a wait), so a lost reply costs a
+  // fraction of a second rather than pyS3g's and GPX's fixed 1 s. A premature timeout costs a
+  // ring snapshot, never a duplicate.
+  Millis reply_timeout{1000};
+  Millis min_reply_timeout{150};
+  Millis byte_timeout{100};  // between the bytes of one reply, and after bytes that made none
+  Millis quiet_gap{5};       // after a doubt, the line must be quiet this long before we send
+  int max_resends = 5;       // of one packet on 80/83/88/8C
   // Nothing heard for this long while a packet waits: the board is gone, the print fails
   // (resumable from what was confirmed).
   Millis silence_limit{10000};
@@ -218,6 +224,12 @@ class S3gSession {
   std::optional<Packet> in_flight_packet_;
   bool in_flight_ = false, got_bytes_ = false;
   Millis reply_deadline_{Millis::max()};
+  // Reply-time estimate (RFC 6298) from packets sent once (Karn: a resent one's reply is ambiguous).
+  Millis sent_at_{0};
+  bool sample_reply_ = false, have_rtt_ = false;
+  double srtt_ms_ = 0, rttvar_ms_ = 0;
+  Millis reply_wait() const;
+  void sample_reply_time(Millis sample);
   PacketDecoder decoder_;
   bool quiet_ = false;  // discarding the line's bytes until quiet_until_
   Millis quiet_until_{0};

@@ -1,5 +1,7 @@
 #include "server/printers/printer_connection.hpp"
 
+#include <algorithm>
+
 #include "protocol/s3g/x3g_translator.hpp"
 #include "protocol/serial/marlin_link.hpp"
 #include "protocol/serial/s3g_link.hpp"
@@ -44,8 +46,15 @@ PrinterConnection open_printer_connection(const PrinterConfig& config, TerminalH
       serial::S3gLinkConfig s3g;
       // The G-code of a job or a file becomes x3g on the way; what the translator cannot handle
       // was refused when the file was taken (printable_program), so nothing is lost here.
+      // A file that starts a build (M73 P0 or M136, as slicers write) gets the board's build
+      // notifications, as gpx writes them; console commands do not: they are not a build.
       s3g.translate = [machine, name = config.id](const protocol::Program& program) {
-        return protocol::s3g::translate_gcode(program, *machine, {.build_name = name}).program;
+        const bool build = std::any_of(
+            program.commands().begin(), program.commands().end(),
+            [](const auto& c) { return c.text.rfind("M73 ", 0) == 0 || c.text.rfind("M136", 0) == 0; });
+        return protocol::s3g::translate_gcode(program, *machine,
+                                              {.build_name = name, .build_start = build, .build_end = build})
+            .program;
       };
       c.link = std::make_unique<serial::S3gLink>(std::move(tap), std::move(s3g));
       break;

@@ -22,7 +22,7 @@ wait_printer() {  # wait_printer STATE [SECONDS]
 }
 wait_print() {  # wait_print STATE [AFTER_ID]: the last print (a later one than AFTER_ID) ended so
   for _ in $(seq 3000); do
-    [ "$(printer "(d['last_print']['state'] if d['last_print'] and d['last_print']['id'] != ${2:-0} else '')")" = "$1" ] && return 0
+    [ "$(printer "['last_print']['state'] if d['last_print'] and d['last_print']['id'] != ${2:-0} else ''")" = "$1" ] && return 0
     sleep 0.1
   done
   fail "the print never became $1: $(api "$base/api/v1/printers/r2x")"
