@@ -8,6 +8,7 @@
 
 #include "core/common/toml_table_reader.hpp"
 #include "core/printer/printer_profile.hpp"
+#include "protocol/s3g/machine.hpp"
 #include "server/printers/sim_process.hpp"
 
 namespace salient::server {
@@ -113,6 +114,12 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
         p.protocol = *pr;
       else
         throw InputError(source, at, "'printers.protocol' must be marlin or s3g, got '" + protocol + "'");
+      if (p.protocol == PrinterProtocol::s3g && !protocol::s3g::find_machine(p.machine)) {
+        std::string known;
+        for (const std::string& id : protocol::s3g::machine_ids()) known += (known.empty() ? "" : ", ") + id;
+        throw InputError(source, at,
+                         "'printers.machine' must be one of " + known + ", got '" + p.machine + "'");
+      }
       p.baud = baud.value_or(default_baud(p.protocol));
       p.sim_args = sim_args.value_or(default_sim_args(p.protocol));
       if (p.kind == PrinterKind::sim) {

@@ -6,12 +6,16 @@
 #include <string>
 
 #include "protocol/gcode/program.hpp"
+#include "server/config/daemon_config.hpp"
 
 namespace salient::server {
 
 // `gcode` as the program to stream; Unprocessable (422) when it has no command, or a line that
-// cannot be sent (too long, binary, not ASCII), named with its line number.
-std::shared_ptr<const protocol::Program> printable_program(const std::string& name, const std::string& gcode);
+// cannot be sent (too long, binary, not ASCII), named with its line number. For a printer that
+// speaks s3g also a command the x3g translator would skip (a Marlin-only code: the file was not
+// sliced for this machine), so that nothing of a print is silently left out.
+std::shared_ptr<const protocol::Program> printable_program(const std::string& name, const std::string& gcode,
+                                                           const PrinterConfig* printer = nullptr);
 
 // The number of commands in `gcode`, refused as printable_program refuses it.
 inline long long check_printable(const std::string& name, const std::string& gcode) {

@@ -143,7 +143,7 @@ long long Printer::start_print(const PrintRequest& request) {
   // Reading and counting a large file happens outside the lock that status requests take.
   Current c;
   std::shared_ptr<const protocol::Program> program =
-      printable_program(request.filename, store_.files().read(request.file_digest));
+      printable_program(request.filename, store_.files().read(request.file_digest), &config_);
   c.total = static_cast<long long>(program->size());
   std::lock_guard lock(mutex_);
   refuse_unless_ready();  // another request may have started one meanwhile

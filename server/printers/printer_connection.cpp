@@ -44,8 +44,8 @@ PrinterConnection open_printer_connection(const PrinterConfig& config, TerminalH
       const protocol::s3g::Machine* machine = protocol::s3g::find_machine(config.machine);
       if (!machine) throw std::runtime_error("unknown s3g machine '" + config.machine + "'");
       serial::S3gLinkConfig s3g;
-      // The G-code of a job or a file becomes x3g on the way; what the translator cannot handle
-      // was refused when the file was taken (printable_program), so nothing is lost here.
+      // The G-code of a job or a file becomes x3g on the way; a print of a file with a command the
+      // translator cannot handle was refused before it started (printable_program).
       // A file that starts a build (M73 P0 or M136, as slicers write) gets the board's build
       // notifications, as gpx writes them; console commands do not: they are not a build.
       s3g.translate = [machine, name = config.id](const protocol::Program& program) {

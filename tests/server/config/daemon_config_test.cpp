@@ -121,6 +121,9 @@ machine = "r2"
   CHECK(c.printers[2].sim_args == default_sim_args(PrinterProtocol::marlin));
   CHECK(c.printers[3].protocol == PrinterProtocol::s3g);
   CHECK(c.printers[3].machine == "r2");
+  CHECK_THROWS_WITH_AS(
+      parse_daemon_config("[[printers]]\nid = \"a\"\nprotocol = \"s3g\"\nmachine = \"r1\"\n", "d.toml"),
+      "d.toml:1: 'printers.machine' must be one of r2, r2h, r2x, got 'r1'", InputError);
   CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"a\"\nprotocol = \"x3g\"\n", "d.toml"),
                        "d.toml:1: 'printers.protocol' must be marlin or s3g, got 'x3g'", InputError);
 }

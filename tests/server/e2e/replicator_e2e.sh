@@ -80,6 +80,18 @@ wait_print finished "$first"
 cat r2x.x3g r2x.x3g > twice.x3g
 eventually 60 executed_is twice.x3g r2x.log || fail "the upload's print is not the x3g again"
 
+# A file sliced for a Marlin printer is refused before it starts, naming the first command the
+# Replicator cannot take: nothing is silently left out of a print.
+printf 'G28\nM204 S800\nG1 X10 Y10 F3000\n' > marlin.gcode
+code=$(api -o upload.json -w '%{http_code}' -F "file=@marlin.gcode" "$base/api/files/local")
+[ "$code" = 201 ] || fail "upload: $code $(cat upload.json)"
+code=$(api -o refused.json -w '%{http_code}' -d '{"file": "marlin.gcode"}' "$base/api/v1/printers/r2x/print")
+[ "$code" = 422 ] || fail "a Marlin file on the Replicator: $code $(cat refused.json)"
+[ "$(field "['error']['code']" < refused.json)" = not_x3g ] || fail "$(cat refused.json)"
+field "['error']['message']" < refused.json | grep -q "line 2 'M204 S800' cannot be printed over s3g" \
+  || fail "$(cat refused.json)"
+[ "$(printer "['state']")" = operational ] || fail "the refusal left the printer $(printer "['state']")"
+
 # 3. Cancel mid-print (real-time moves): the print ends cancelled, the board's heaters off.
 stop
 sed -i 's/--time-scale 0 --heat-time-scale 0/--time-scale 1 --heat-time-scale 0/; s/r2x.log/r2x-cancel.log/' r2x.toml
