@@ -217,9 +217,12 @@ TEST_CASE("s3g link: a GPX x3g prints to the simulated Sailfish board exactly on
   CHECK(run.log == hex_of(p->actions));
 }
 
-TEST_CASE("s3g link: under corruption both ways, lost replies and buffer-full storms, every action once") {
+TEST_CASE(
+    "s3g link: 50,000 actions under corruption both ways, lost replies and buffer-full storms, every action "
+    "once") {
   if (!ready()) return;
-  const auto p = x3g_of(10000);
+  const auto p = x3g_of(50000);
+  REQUIRE(p->actions.size() >= 50000);
   const Run run =
       print_to(with(kFast, "noise=0.02,reply-noise=0.02,drop-reply=0.002,full-storm=0.01,seed=3"), p);
   INFO(run.result.reason);
