@@ -236,7 +236,9 @@ std::optional<S3gSession::Packet> S3gSession::next_packet(Millis now) {
   } else if (next_action_ < program_->actions.size()) {
     current_ = Packet{program_->actions[next_action_], Purpose::action, true};
   } else {
-    return std::nullopt;  // all queued: build stats tell when the board has started the last
+    // All queued: build stats tell when the board has started the last; ask soon, the line is idle.
+    next_stats_ = std::min(next_stats_, now + config_.buffer_poll);
+    return std::nullopt;
   }
   return current_;
 }
