@@ -77,6 +77,8 @@ TEST_CASE("every state has a name, and print states read back from their names")
   for (PrinterKind k : {PrinterKind::sim, PrinterKind::serial, PrinterKind::tcp})
     CHECK(printer_kind_from(to_string(k)) == k);
   CHECK(!printer_kind_from("usb"));
-  CHECK(printer_protocol_from("marlin") == PrinterProtocol::marlin);
-  CHECK(!printer_protocol_from("s3g"));  // Step 10
+  for (PrinterProtocol p : {PrinterProtocol::marlin, PrinterProtocol::s3g})
+    CHECK(printer_protocol_from(to_string(p)) == p);
+  CHECK(to_string(PrinterProtocol::s3g) == "s3g");
+  CHECK(!printer_protocol_from("x3g"));
 }
