@@ -35,6 +35,8 @@ echo "== daemon: wrk on the printer status (idle, while slicing), idle memory, 2
 bash tests/bench/daemon_bench.sh "$build"
 echo "== printer link: lines per second to salient-sim, ours vs printcore; share of a 250,000 baud wire"
 bash tests/bench/link_bench.sh "$build"
+echo "== s3g: actions per second to the simulated Sailfish board, ours vs gpx -s; share of a 115,200 baud wire"
+bash tests/bench/s3g_bench.sh "$build"
 if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
   echo "== peer: model info, salient vs PrusaSlicer (whole process, hyperfine)"
   for m in stanford-bunny.obj fandisk.obj Spider_binary.stl; do
