@@ -19,7 +19,16 @@ std::size_t S3gSession::done_for(std::size_t program_actions) const {
 std::size_t S3gSession::started_program_actions() const {
   const std::size_t started = have_baseline_ ? last_line_ - line_base_ : 0;
   const std::size_t past_prelude = started > prelude_.size() ? started - prelude_.size() : 0;
-  return std::min(start_action_ + past_prelude, next_action_);
+  const std::size_t known = std::min(start_action_ + past_prelude, next_action_);
+  // Build stats come once a second; the ring bounds it better between them: it holds at most
+  // ring_bytes, so of the accepted actions only a suffix that fits in it can be unstarted — an
+  // action whose bytes and those after it exceed the ring had left it (FIFO), and all before it.
+  std::size_t bytes = 0;
+  for (std::size_t k = next_action_; k > std::max(known, start_action_); --k) {
+    bytes += program_->actions[k - 1].size();
+    if (bytes > config_.ring_bytes) return k;
+  }
+  return known;
 }
 
 void S3gSession::on_reply(std::string_view payload, Millis now) {

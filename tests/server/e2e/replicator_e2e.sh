@@ -107,4 +107,45 @@ heaters_off() {  # the targets the board reports (polled by the link) are 0
   [ "$(printer "['temperatures']['hotend']['target'] in (0, None) and d['temperatures']['bed']['target'] in (0, None)")" = True ]
 }
 eventually 15 heaters_off || fail "heaters still on after the cancel: $(printer "['temperatures']")"
+
+# 4. The board resets mid-print: the print fails saying so, resumable from what had started; on
+# the next connection (a fresh board, no fault) the resume runs the prelude and the rest of the x3g,
+# not the whole file again.
+stop
+sed -i 's/--time-scale 1 --heat-time-scale 0/--time-scale 0 --heat-time-scale 0/; s/r2x-cancel.log/r2x-reset.log/' r2x.toml
+sed -i 's/--faults [^"]*/--faults reset-at=5000/' r2x.toml
+start r2x.toml
+wait_printer operational
+before=$(printer "['last_print']['id']")
+api -f -o print.json -d "{\"job\": \"$id\"}" "$base/api/v1/printers/r2x/print" || fail "print: $(cat print.json)"
+wait_print failed "$before"
+printer "['last_print']['reason']" | grep -qi "reset" || fail "reason: $(printer "['last_print']")"
+[ "$(printer "['last_print']['resumable']")" = True ] || fail "not resumable: $(printer "['last_print']")"
+failed=$(printer "['last_print']['id']")
+confirmed=$(printer "['last_print']['confirmed']")
+[ "$confirmed" -gt 1000 ] || fail "resumable from command $confirmed only, after 5,000 actions had run"
+# A failed print leaves the printer in error until it is connected again, as for Marlin: here the
+# daemon restarts with the board's fault gone.
+[ "$(printer "['state']")" = error ] || fail "after the reset: $(printer "['state']")"
+stop
+sed -i 's/ --faults [^"]*//; s/r2x-reset.log/r2x-resume.log/' r2x.toml
+start r2x.toml
+wait_printer operational
+api -f -o resume.json -d "{\"resume\": $failed}" "$base/api/v1/printers/r2x/print" || fail "resume: $(cat resume.json)"
+wait_print finished "$failed"
+[ "$(printer "['last_print']['confirmed'] == d['last_print']['total']")" = True ] || fail "resumed print not complete"
+resumed_rest() {
+  python3 - r2x.x3g r2x-resume.log <<'PY'
+import sys
+want = open(sys.argv[1], "rb").read()
+got = b"".join(bytes.fromhex(l.strip()) for l in open(sys.argv[2]))
+half = want[len(want) // 2:]
+if not got.endswith(half) or got.count(half) != 1:
+    sys.exit(f"the resumed print does not end with the rest of the x3g ({len(got)} bytes)")
+if len(got) >= len(want):
+    sys.exit(f"the resumed print ran {len(got)} bytes: the whole file again ({len(want)})")
+print(f"resumed: {len(got)} bytes of the x3g's {len(want)}, ending with its rest")
+PY
+}
+eventually 60 resumed_rest || fail "the resumed print is not the rest of the x3g"
 echo "replicator e2e: ok"
