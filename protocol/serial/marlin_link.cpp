@@ -3,47 +3,13 @@
 #include <algorithm>
 
 #include "protocol/marlin/resume_prelude.hpp"
+#include "protocol/serial/link_events.hpp"
 
 namespace salient::protocol::serial {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 using marlin::Millis;
-
-// The session's events a host needs, in the link's vocabulary (the rest — firmware, capability,
-// action, timeout, finished, failed — is the link's own business or in the PrintResult).
-std::optional<LinkEvent> to_link_event(const marlin::SessionEvent& e) {
-  using K = marlin::SessionEvent::Kind;
-  LinkEvent out;
-  out.kind = LinkEvent::Kind::progress;
-  switch (e.kind) {
-    case K::acknowledged:
-      out.done = static_cast<std::size_t>(e.line);
-      return out;
-    case K::temperatures:
-      out.kind = LinkEvent::Kind::temperatures;
-      out.hotend = e.temperatures.hotend, out.hotend_target = e.temperatures.hotend_target;
-      out.bed = e.temperatures.bed, out.bed_target = e.temperatures.bed_target;
-      return out;
-    case K::resend:
-      out.kind = LinkEvent::Kind::resend;
-      return out;
-    case K::error:
-      out.kind = LinkEvent::Kind::error, out.text = e.text;
-      return out;
-    case K::reset:
-      out.kind = LinkEvent::Kind::reset, out.text = e.text;
-      return out;
-    default:
-      return std::nullopt;
-  }
-}
-
-PrintEnd end_of(marlin::SessionState s) {
-  if (s == marlin::SessionState::finished) return PrintEnd::finished;
-  if (s == marlin::SessionState::cancelled) return PrintEnd::cancelled;
-  return PrintEnd::failed;
-}
 
 }  // namespace
 
@@ -112,7 +78,7 @@ void MarlinLink::idle(std::chrono::milliseconds duration, const LinkEventFn& on_
       if (e.kind == marlin::SessionEvent::Kind::timeout)
         throw LinkError(transport_->describe() + ": " + e.text);
       if (!on_event) continue;
-      if (auto out = to_link_event(e)) on_event(*out);
+      if (auto out = to_link_event(e, static_cast<std::size_t>(e.line))) on_event(*out);
     }
   };
   session.on_tick(since_start());
@@ -183,7 +149,7 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const Link
       for (const marlin::SessionEvent& e : session.take_events()) {
         if (e.kind == marlin::SessionEvent::Kind::failed && result.reason.empty()) result.reason = e.text;
         if (!on_event) continue;
-        if (auto out = to_link_event(e)) on_event(*out);
+        if (auto out = to_link_event(e, static_cast<std::size_t>(e.line))) on_event(*out);
       }
       const SessionState s = session.state();
       if (s == SessionState::finished || s == SessionState::failed ||

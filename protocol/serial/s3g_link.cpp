@@ -5,46 +5,13 @@
 
 #include "protocol/s3g/packet.hpp"
 #include "protocol/s3g/resume_prelude.hpp"
+#include "protocol/serial/link_events.hpp"
 
 namespace salient::protocol::serial {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 using s3g::Millis;
-
-// The session's events a host needs, in the link's vocabulary.
-std::optional<LinkEvent> to_link_event(const s3g::SessionEvent& e) {
-  using K = s3g::SessionEvent::Kind;
-  LinkEvent out;
-  out.kind = LinkEvent::Kind::progress;
-  switch (e.kind) {
-    case K::acknowledged:
-      out.done = e.done;
-      return out;
-    case K::temperatures:
-      out.kind = LinkEvent::Kind::temperatures;
-      out.hotend = e.temperatures.hotend, out.hotend_target = e.temperatures.hotend_target;
-      out.bed = e.temperatures.bed, out.bed_target = e.temperatures.bed_target;
-      return out;
-    case K::resend:
-      out.kind = LinkEvent::Kind::resend;
-      return out;
-    case K::error:
-      out.kind = LinkEvent::Kind::error, out.text = e.text;
-      return out;
-    case K::reset:
-      out.kind = LinkEvent::Kind::reset, out.text = e.text;
-      return out;
-    default:
-      return std::nullopt;
-  }
-}
-
-PrintEnd end_of(s3g::SessionState s) {
-  if (s == s3g::SessionState::finished) return PrintEnd::finished;
-  if (s == s3g::SessionState::cancelled) return PrintEnd::cancelled;
-  return PrintEnd::failed;
-}
 
 std::chrono::microseconds micros(Clock::duration d) {
   return std::chrono::duration_cast<std::chrono::microseconds>(std::max(d, Clock::duration::zero()));
@@ -100,7 +67,7 @@ void S3gLink::idle(std::chrono::milliseconds duration, const LinkEventFn& on_eve
     for (const s3g::SessionEvent& e : session.take_events()) {
       if (e.kind == s3g::SessionEvent::Kind::timeout) throw LinkError(transport_->describe() + ": " + e.text);
       if (!on_event) continue;
-      if (auto out = to_link_event(e)) on_event(*out);
+      if (auto out = to_link_event(e, e.done)) on_event(*out);
     }
   };
   session.on_tick(since_start());
@@ -211,7 +178,7 @@ PrintResult S3gLink::print_x3g(std::shared_ptr<const s3g::X3gProgram> program, c
             result.reason.empty())
           result.reason = e.text;
         if (!on_event) continue;
-        if (auto out = to_link_event(e)) on_event(*out);
+        if (auto out = to_link_event(e, e.done)) on_event(*out);
       }
       const SessionState s = session.state();
       if (s == SessionState::finished || s == SessionState::failed ||
