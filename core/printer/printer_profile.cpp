@@ -52,6 +52,8 @@ PrinterProfile parse_printer_profile(std::string_view text, const std::string& s
   read_section(top, "layers", source, [&](TableReader& r) {
     r.number("min", p.min_layer);
     r.number("max", p.max_layer);
+    r.number("first", p.first_layer_height);
+    r.number("default", p.default_layer_height);
   });
   read_section(top, "extruder", source, [&](TableReader& r) {
     r.number("nozzle_diameter", p.nozzle_diameter);
@@ -72,13 +74,24 @@ PrinterProfile parse_printer_profile(std::string_view text, const std::string& s
   read_section(top, "gcode", source, [&](TableReader& r) {
     r.text("start", p.start_gcode);
     r.text("end", p.end_gcode);
+    r.number("resolution", p.gcode_resolution, 0.0001, 1.0);
+    r.boolean("arc_fitting", p.arc_fitting);
   });
+  read_section(top, "infill", source,
+               [&](TableReader& r) { r.number("solid_below_area", p.solid_infill_below_area, 0.0, 1e6); });
+  read_section(top, "connection", source, [&](TableReader& r) { r.integer("baud", p.baud, 1200, 4000000); });
   top.reject_unknown();
   if (p.min_layer > p.max_layer)
     throw InputError(source, {},
                      "'layers.min' (" + std::to_string(p.min_layer) + ") is greater than 'layers.max'");
   if (p.max_layer > p.nozzle_diameter)
     throw InputError(source, {}, "'layers.max' is thicker than the nozzle ('extruder.nozzle_diameter')");
+  if (p.first_layer_height < p.min_layer || p.first_layer_height > p.nozzle_diameter)
+    throw InputError(
+        source, {},
+        "'layers.first' must lie between 'layers.min' and the nozzle ('extruder.nozzle_diameter')");
+  if (p.default_layer_height < p.min_layer || p.default_layer_height > p.max_layer)
+    throw InputError(source, {}, "'layers.default' must lie between 'layers.min' and 'layers.max'");
   if (p.name.empty()) p.name = p.id;
   return p;
 }

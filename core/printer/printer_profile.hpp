@@ -22,14 +22,24 @@ struct PrinterProfile {
   // Build volume, mm. With origin_at_center the bed spans [-width/2, width/2] × [-depth/2, depth/2].
   double bed_width = 220, bed_depth = 220, max_height = 250;
   bool origin_at_center = false;
-  double min_layer = 0.1, max_layer = 0.3;                              // α and ᾱ, mm
+  double min_layer = 0.1, max_layer = 0.3;  // α and ᾱ, mm
+  // The first layer's height, fixed (PrusaSlicer's first_layer_height: the plan optimises the layers
+  // above it), and the height a user would print the whole model at otherwise (the baseline the
+  // results compare against), mm.
+  double first_layer_height = 0.2, default_layer_height = 0.2;
   double nozzle_diameter = 0.4, filament_diameter = 1.75;               // mm
   double extruder_temperature = 210, bed_temperature = 60;              // °C
   double retract_length = 0.8, retract_speed = 35;                      // mm, mm/s
   double print_speed = 50, first_layer_speed = 20, travel_speed = 150;  // mm/s
   double acceleration = 1000;                                           // mm/s²
-  double jerk = 10;                    // mm/s: the speed change allowed at a corner without slowing
-  std::string start_gcode, end_gcode;  // templates: {extruder_temperature}, {bed_temperature}, …
+  double jerk = 10;  // mm/s: the speed change allowed at a corner without slowing
+  // Sections are simplified within this deviation (PrusaSlicer's gcode_resolution), mm; with
+  // arc_fitting, runs of segments on a circle are written as G2/G3 (Marlin's ARC_SUPPORT).
+  double gcode_resolution = 0.0125;
+  bool arc_fitting = false;
+  double solid_infill_below_area = 70;  // mm²: regions smaller than this are filled solid (PrusaSlicer's)
+  int baud = 115200;                    // the USB serial link's rate, what a file's stream must fit
+  std::string start_gcode, end_gcode;   // templates: {extruder_temperature}, {bed_temperature}, …
 
   double bed_center_x() const { return origin_at_center ? 0 : bed_width / 2; }
   double bed_center_y() const { return origin_at_center ? 0 : bed_depth / 2; }

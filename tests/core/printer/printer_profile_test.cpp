@@ -42,3 +42,35 @@ TEST_CASE("profile mistakes are errors naming the key and line") {
   CHECK_THROWS_WITH_AS(parse_printer_profile("colour = 1\n", "p.toml"), "p.toml:1: unknown key 'colour'",
                        InputError);
 }
+
+TEST_CASE("the first layer, the baseline height, the G-code resolution, small solids and the baud rate") {
+  const PrinterProfile g = *builtin_printer("generic-i3");
+  CHECK(g.first_layer_height == 0.2);
+  CHECK(g.default_layer_height == 0.2);
+  CHECK(g.gcode_resolution == 0.0125);
+  CHECK_FALSE(g.arc_fitting);
+  CHECK(g.solid_infill_below_area == 70);
+  CHECK(g.baud == 115200);
+  const PrinterProfile p = parse_printer_profile(
+      "[layers]\nfirst = 0.3\ndefault = 0.15\n[gcode]\nresolution = 0.05\narc_fitting = true\n"
+      "[infill]\nsolid_below_area = 10\n[connection]\nbaud = 250000\n",
+      "p.toml");
+  CHECK(p.first_layer_height == 0.3);
+  CHECK(p.default_layer_height == 0.15);
+  CHECK(p.gcode_resolution == 0.05);
+  CHECK(p.arc_fitting);
+  CHECK(p.solid_infill_below_area == 10);
+  CHECK(p.baud == 250000);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[layers]\nfirst = 0.5\n", "p.toml"),
+                       "p.toml: 'layers.first' must lie between 'layers.min' and the nozzle "
+                       "('extruder.nozzle_diameter')",
+                       InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[layers]\ndefault = 0.35\n", "p.toml"),
+                       "p.toml: 'layers.default' must lie between 'layers.min' and 'layers.max'", InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[gcode]\nresolution = 0\n", "p.toml"),
+                       "p.toml:2: 'gcode.resolution' must be between 0.0001 and 1", InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[gcode]\narc_fitting = 1\n", "p.toml"),
+                       "p.toml:2: 'gcode.arc_fitting' must be true or false", InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[connection]\nbaud = 0\n", "p.toml"),
+                       "p.toml:2: 'connection.baud' must be between 1200 and 4000000", InputError);
+}
