@@ -90,6 +90,8 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
         o->plan.mesh.bed_center_x = core::builtin_printer("generic-i3")->bed_center_x();
         o->plan.mesh.bed_center_y = core::builtin_printer("generic-i3")->bed_center_y();
       }
+      // plan has no printer: the first layer, the baseline height and the times are generic-i3's
+      // (PlanOptions' defaults).
       const auto setup = core::prepare(o->plan);
       if (o->plan.segment) return plan_segmented(*o, *setup, *planner);
       const core::PlanTarget target = core::target_of(o->plan, *setup);
@@ -100,15 +102,20 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       const std::string text = core::plan_json(core::plan_document(
           *setup, name, std::string(core::to_string(o->plan.planner)), result, target, seconds));
       if (!o->output.empty()) write_file(o->output, text);
+      const core::ZProfile& p = *setup->profile;
+      const auto times = core::plan_times(*setup, result.plan);
       if (!o->svg.empty())
-        write_file(o->svg, core::plan_svg(*setup->objective, result.plan,
-                                          name + " — " + std::string(core::to_string(o->plan.planner)) +
-                                              ", " + std::to_string(result.plan.layer_count()) + " layers"));
+        write_file(o->svg,
+                   core::plan_svg(*setup->objective, result.plan,
+                                  name + " — " + std::string(core::to_string(o->plan.planner)) + ", " +
+                                      std::to_string(result.plan.layer_count()) + " layers",
+                                  times ? "estimated " + core::times_text(*times, p.params().min_layer,
+                                                                          setup->objective->rsmd(result.plan))
+                                        : std::string()));
       if (o->json) {
         std::fputs(text.c_str(), stdout);
         return 0;
       }
-      const core::ZProfile& p = *setup->profile;
       std::printf("%s: %s planner, %s metric, %s saliency\n", name.c_str(),
                   std::string(core::to_string(o->plan.planner)).c_str(),
                   std::string(core::to_string(o->plan.metric)).c_str(),
@@ -119,6 +126,11 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       std::printf("  E        %.6g", setup->objective->error(result.plan));
       if (target.epsilon) std::printf(" (epsilon %.6g = %.3g x E(coarse))", *target.epsilon, setup->rho);
       std::printf("\n  RSMD     %.6g\n  time     %.3f s\n", setup->objective->rsmd(result.plan), seconds);
+      if (times)
+        std::printf(
+            "  print    %s (estimated; objective %s)\n",
+            core::times_text(*times, p.params().min_layer, setup->objective->rsmd(result.plan)).c_str(),
+            std::string(core::to_string(setup->goal)).c_str());
       if (p.dropped_faces() > 0)
         std::printf("  warning  %zu faces of zero or non-finite area were left out of the profile\n",
                     p.dropped_faces());

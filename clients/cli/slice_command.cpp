@@ -10,6 +10,7 @@
 #include "clients/cli/cli_options.hpp"
 #include "clients/cli/commands.hpp"
 #include "core/common/input_error.hpp"
+#include "core/pipeline/plan_report.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
 
 namespace salient::cli {
@@ -68,6 +69,9 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
           "-> %s\n",
           r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),
           printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds, o->output.c_str());
+      if (r.plan.times)
+        std::printf("estimated (time model): %s\n",
+                    core::times_text(*r.plan.times, r.plan.min_layer, r.rsmd).c_str());
       if (r.dropped_faces > 0)
         std::printf("warning: %zu faces of zero or non-finite area were left out of the layer profile\n",
                     r.dropped_faces);

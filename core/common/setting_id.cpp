@@ -9,7 +9,7 @@
 namespace salient::core {
 namespace {
 
-constexpr NameTable<SettingId, 26> keys = {{
+constexpr NameTable<SettingId, 27> keys = {{
     {SettingId::printer, "printer"},
     {SettingId::planner, "planner"},
     {SettingId::up, "up"},
@@ -22,6 +22,7 @@ constexpr NameTable<SettingId, 26> keys = {{
     {SettingId::layers, "layers"},
     {SettingId::layer_height, "layer_height"},
     {SettingId::metric, "metric"},
+    {SettingId::objective, "objective"},
     {SettingId::saliency, "saliency"},
     {SettingId::saliency_file, "saliency_file"},
     {SettingId::seed, "seed"},

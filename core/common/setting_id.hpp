@@ -23,6 +23,7 @@ enum class SettingId {
   layers,
   layer_height,
   metric,
+  objective,
   saliency,
   saliency_file,
   seed,

@@ -52,13 +52,36 @@ struct SegmentationReport {
   std::optional<Plane> plane;
 };
 
+// Estimated printing times (LayerTimeModel, s): the plan, uniform at the finest layer (the
+// paper's baseline) and uniform at the printer's default height (what a user would print
+// otherwise), with that plan's RSMD — "how much faster, and at what visible cost" in one line.
+// The uniform plans keep the same fixed first layer.
+struct PlanTimes {
+  double plan_seconds = 0;
+  int fine_layers = 0;
+  double fine_seconds = 0;
+  double default_layer_height = 0;  // mm
+  int default_layers = 0;
+  double default_seconds = 0, default_rsmd = 0;
+
+  double saving_vs_fine() const { return fine_seconds - plan_seconds; }  // s
+  double saving_vs_default() const { return default_seconds - plan_seconds; }
+  double saving_vs_fine_percent() const {
+    return fine_seconds > 0 ? 100 * saving_vs_fine() / fine_seconds : 0;
+  }
+  double saving_vs_default_percent() const {
+    return default_seconds > 0 ? 100 * saving_vs_default() / default_seconds : 0;
+  }
+};
+
 struct PlanDocument {
   static constexpr const char* format = "salient-plan";
   static constexpr int version = 1;  // what this salient writes and the newest it reads
 
   std::string model;  // the model's file name
   std::string planner, metric;
-  double height = 0;                              // the placed model's height, mm
+  std::string objective;  // what `exact` minimised: "time" or "layers" (empty: not recorded)
+  double height = 0;      // the placed model's height, mm
   double grid = 0, min_layer = 0, max_layer = 0;  // mm
   int fine_layers = 0, coarse_layers = 0;         // all layers at min_layer, at max_layer
   double error = 0, rsmd = 0;                     // E and RSMD of the whole plan
@@ -69,6 +92,7 @@ struct PlanDocument {
   std::string note;                               // the planner's remark, if any
   std::vector<PlanTraceStep> trace;
   std::optional<SegmentationReport> segmentation;  // a segmented plan's
+  std::optional<PlanTimes> times;                  // estimated printing times, when known
 
   int count() const { return static_cast<int>(layers.size()); }
   // The layer boundaries, mm: the bed (0), then each layer's top.

@@ -144,6 +144,21 @@ std::string plan_json(const PlanDocument& p, int indent) {
       {"segmentation", p.segmentation ? segmentation_object(*p.segmentation) : json(nullptr)},
   };
   if (!p.note.empty()) j["note"] = p.note;
+  if (!p.objective.empty()) j["objective"] = p.objective;
+  if (p.times) {
+    const PlanTimes& t = *p.times;
+    j["times"] = {{"plan_s", t.plan_seconds},
+                  {"fine_layers", t.fine_layers},
+                  {"fine_s", t.fine_seconds},
+                  {"default_layer_height", t.default_layer_height},
+                  {"default_layers", t.default_layers},
+                  {"default_s", t.default_seconds},
+                  {"default_rsmd", t.default_rsmd},
+                  {"saving_vs_fine_s", t.saving_vs_fine()},
+                  {"saving_vs_fine_percent", t.saving_vs_fine_percent()},
+                  {"saving_vs_default_s", t.saving_vs_default()},
+                  {"saving_vs_default_percent", t.saving_vs_default_percent()}};
+  }
   if (!p.trace.empty()) {
     json trace = json::array();
     for (const PlanTraceStep& s : p.trace)
@@ -196,6 +211,21 @@ PlanDocument read_plan_json(std::string_view text, const std::string& name) {
   if (const auto n = in.optional_number(j, "requested_layers", "requested_layers")) out.requested_layers = *n;
   out.seconds = in.optional_number(j, "seconds", "seconds").value_or(0);
   out.note = in.text(j, "note");
+  out.objective = in.text(j, "objective");
+  if (const auto t = j.find("times"); t != j.end() && t->is_object()) {
+    PlanTimes times;
+    const auto number = [&](const char* key) {
+      return in.optional_number(*t, std::string("times.") + key, key).value_or(0);
+    };
+    times.plan_seconds = number("plan_s");
+    times.fine_layers = static_cast<int>(number("fine_layers"));
+    times.fine_seconds = number("fine_s");
+    times.default_layer_height = number("default_layer_height");
+    times.default_layers = static_cast<int>(number("default_layers"));
+    times.default_seconds = number("default_s");
+    times.default_rsmd = number("default_rsmd");
+    out.times = times;
+  }
   if (const auto c = j.find("count");
       c != j.end() && c->is_number_integer() && c->get<long long>() != out.count())
     in.fail("field 'count' is " + c->dump() + " but 'layers' has " + std::to_string(out.count()));

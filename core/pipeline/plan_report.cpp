@@ -1,5 +1,9 @@
 #include "core/pipeline/plan_report.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
 #include "core/pipeline/segmented_slicing.hpp"
 
 namespace salient::core {
@@ -25,6 +29,52 @@ PlanDocument common(const PlanningSetup& setup, const std::string& model, const 
 
 }  // namespace
 
+std::optional<PlanTimes> plan_times(const PlanningSetup& setup, const LayerPlan& plan) {
+  if (!setup.time) return std::nullopt;
+  const ZProfile& p = *setup.profile;
+  const LayerTimeModel& time = *setup.time;
+  PlanTimes t;
+  t.plan_seconds = time.seconds(plan);
+  const LayerPlan fine = make_planner(PlannerKind::fine)->plan(setup.request(PlanTarget::within(0))).plan;
+  t.fine_layers = fine.layer_count();
+  t.fine_seconds = time.seconds(fine);
+  t.default_layer_height = setup.default_layer;
+  if (setup.default_layer > 0) {
+    const double first = setup.first_cells > 0 ? p.z(setup.first_cells) : 0;
+    const int n = (first > 0 ? 1 : 0) +
+                  std::max(1, static_cast<int>(std::lround((p.height() - first) / setup.default_layer)));
+    const LayerPlan uniform =
+        make_planner(PlannerKind::uniform)->plan(setup.request(PlanTarget::count(n))).plan;
+    t.default_layers = uniform.layer_count();
+    t.default_seconds = time.seconds(uniform);
+    t.default_rsmd = setup.objective->rsmd(uniform);
+  }
+  return t;
+}
+
+std::string duration_text(double seconds) {
+  const long minutes = std::lround(seconds / 60);
+  char buf[48];
+  if (minutes < 60)
+    std::snprintf(buf, sizeof buf, "%ld min", minutes);
+  else
+    std::snprintf(buf, sizeof buf, "%ld h %02ld min", minutes / 60, minutes % 60);
+  return buf;
+}
+
+std::string times_text(const PlanTimes& t, double fine_layer_height, double plan_rsmd) {
+  const double vs_default = t.saving_vs_default();
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "%s; uniform %g mm %s (%s, %.1f %% saved); uniform %g mm %s (%s %s, RSMD %.3f against %.3f)",
+                duration_text(t.plan_seconds).c_str(), fine_layer_height,
+                duration_text(t.fine_seconds).c_str(), duration_text(t.saving_vs_fine()).c_str(),
+                t.saving_vs_fine_percent(), t.default_layer_height, duration_text(t.default_seconds).c_str(),
+                duration_text(std::fabs(vs_default)).c_str(), vs_default >= 0 ? "slower" : "quicker",
+                t.default_rsmd, plan_rsmd);
+  return buf;
+}
+
 PlanDocument plan_document(const PlanningSetup& setup, const std::string& model, const std::string& planner,
                            const PlanResult& result, const PlanTarget& target, double seconds) {
   const Objective& obj = *setup.objective;
@@ -38,6 +88,8 @@ PlanDocument plan_document(const PlanningSetup& setup, const std::string& model,
   if (target.layers) d.requested_layers = *target.layers;
   d.note = result.note;
   for (const PlanStep& s : result.trace) d.trace.push_back({s.step, s.layers, s.error});
+  d.objective = std::string(to_string(setup.goal));
+  d.times = plan_times(setup, result.plan);
   return d;
 }
 

@@ -4,6 +4,7 @@
 // --segment --json`, the daemon's job results and the plan's "segmentation".
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/export/plan_document.hpp"
@@ -11,6 +12,16 @@
 #include "core/segment/seg_opt.hpp"
 
 namespace salient::core {
+
+// The estimated times of `plan` and of the two uniform baselines (PlanTimes); nullopt without a
+// time model.
+std::optional<PlanTimes> plan_times(const PlanningSetup& setup, const LayerPlan& plan);
+
+// "2 h 05 min", "48 min".
+std::string duration_text(double seconds);
+// One line: the plan's time; uniform at the finest layer with the saving; uniform at the
+// default height, how much slower or quicker it is, and its RSMD against the plan's.
+std::string times_text(const PlanTimes& times, double fine_layer_height, double plan_rsmd);
 
 // `model`: the model's file name; `planner`: its name as given; `seconds`: time taken to plan.
 PlanDocument plan_document(const PlanningSetup& setup, const std::string& model, const std::string& planner,

@@ -1,5 +1,6 @@
 #include "core/pipeline/planning_setup.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/common/input_error.hpp"
@@ -8,7 +9,8 @@
 namespace salient::core {
 
 PlanRequest PlanningSetup::request(PlanTarget target) const {
-  return PlanRequest{*objective, &model.loaded.mesh, geometric.get(), target, seed, {}};
+  return PlanRequest{*objective, &model.loaded.mesh, geometric.get(), target, seed, {},
+                     goal,       time.get(),         first_cells};
 }
 
 void check_plan_options(const PlanOptions& o) {
@@ -43,6 +45,12 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   s->profile = std::make_unique<ZProfile>(ZProfile::build(s->model.loaded.mesh, s->saliency, params, run));
   s->objective = std::make_unique<Objective>(*s->profile, metric, false);
   s->geometric = std::make_unique<Objective>(*s->profile, metric, true);
+  s->time = std::make_unique<LayerTimeModel>(s->model.loaded.mesh, *s->profile, o.time_model);
+  s->goal = o.objective;
+  if (o.first_layer > 0)
+    s->first_cells = std::clamp(static_cast<int>(std::lround(o.first_layer / o.grid)),
+                                s->profile->min_cells(), s->profile->max_cells());
+  s->default_layer = o.default_layer;
   s->rho = o.rho.value_or(0.05);
   s->seed = o.seed;
   return s;
@@ -50,9 +58,13 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
 
 PlanTarget target_of(const PlanOptions& o, const PlanningSetup& s) {
   if (o.layers) return PlanTarget::count(*o.layers);
-  if (o.layer_height)
+  if (o.layer_height) {
+    // Above a fixed first layer, the rest at the height asked for.
+    const double first = s.first_cells > 0 ? s.profile->z(s.first_cells) : 0;
     return PlanTarget::count(
-        std::max(1, static_cast<int>(std::lround(s.profile->height() / *o.layer_height))));
+        (first > 0 ? 1 : 0) +
+        std::max(1, static_cast<int>(std::lround((s.profile->height() - first) / *o.layer_height))));
+  }
   return PlanTarget::within(s.objective->epsilon(s.rho));
 }
 

@@ -22,6 +22,7 @@ struct PlanOptions {
   std::optional<int> layers;
   std::optional<double> layer_height;
   Metric metric = Metric::area;
+  PlanGoal objective = PlanGoal::time;  // what `exact` minimises within ε
   PlannerKind planner = PlannerKind::exact;
   SaliencyMethod saliency = SaliencyMethod::uniform;
   std::string saliency_file;  // per-vertex values (implies painted)
@@ -29,6 +30,11 @@ struct PlanOptions {
   bool segment = false;    // SegOpt (paper §5): cut by a vertical plane where that saves time
   int segment_depth = 1;   // levels of cutting (2+: each part is cut again where that saves time)
   int segment_planes = 1;  // planes timed, best seam cost first (the paper times only the best)
+  // The printer's values (slice_model sets them from its profile; `plan` uses generic-i3's):
+  // the fixed first layer (mm, rounded to the grid and kept within α..ᾱ; 0: free), the height a
+  // user would print at otherwise (the results' second baseline), and what a layer's time is.
+  double first_layer = 0.2, default_layer = 0.2;
+  TimeModelParams time_model;
 };
 
 // Everything a planner needs, built once. Members refer to each other: not copyable.
@@ -37,6 +43,10 @@ struct PlanningSetup {
   std::vector<float> saliency;
   std::unique_ptr<ZProfile> profile;
   std::unique_ptr<Objective> objective, geometric;
+  std::unique_ptr<LayerTimeModel> time;
+  PlanGoal goal = PlanGoal::time;
+  int first_cells = 0;         // the fixed first layer, in cells (0: free)
+  double default_layer = 0.2;  // mm
   double rho = 0.05;
   std::uint64_t seed = 1;
 

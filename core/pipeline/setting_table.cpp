@@ -230,6 +230,26 @@ void add_quality_rows(std::vector<Setting>& t) {
                    },
                .choices = metric_names});
   t.push_back(
+      {.id = I::objective,
+       .key = "objective",
+       .flag = "--objective",
+       .type = SettingType::choice,
+       .help =
+           "What exact minimises within ε: time (the estimated printing time) or layers (the paper's T = N)",
+       .member = "slice.plan.objective",
+       .canonical = InCanonical::when_changed,
+       .cli_checks = true,
+       .get = [](const Settings& s) -> Value { return std::string(to_string(s.slice.plan.objective)); },
+       .set =
+           [](Settings& s, const SettingValue& v) {
+             const auto g = parse_plan_goal(text(v));
+             if (!g)
+               throw InputError(SettingId::objective,
+                                "expected " + names_text(plan_goal_names()) + ", got '" + text(v) + "'");
+             s.slice.plan.objective = *g;
+           },
+       .choices = plan_goal_names});
+  t.push_back(
       {.id = I::saliency,
        .key = "saliency",
        .flag = "--saliency",

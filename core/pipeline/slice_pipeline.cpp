@@ -25,6 +25,22 @@ void check_slice_settings(const SliceSettings& s, const PrinterProfile& printer)
   check_plan_options(plan);
 }
 
+TimeModelParams time_model_params(const PrinterProfile& printer, const ToolpathSettings& toolpaths,
+                                  const GcodeSettings& gcode) {
+  TimeModelParams t;
+  t.print_speed = printer.print_speed;
+  t.first_layer_speed = printer.first_layer_speed;
+  t.line_width = toolpaths.line_width;
+  t.walls = toolpaths.walls;
+  t.infill_density = toolpaths.infill_density;
+  t.top_thickness = toolpaths.top_thickness;
+  t.bottom_thickness = toolpaths.bottom_thickness;
+  t.combine_infill_up_to = toolpaths.combine_infill_up_to;
+  t.min_layer_time = gcode.min_layer_time;
+  t.min_print_speed = gcode.min_print_speed;
+  return t;
+}
+
 SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
   check_slice_settings(s, printer);  // before the orientations are sliced
   std::optional<OrientationReport> orientation;
@@ -38,10 +54,13 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   if (s.max_layer_from_printer) plan.max_layer = printer.max_layer;
   plan.mesh.bed_center_x = printer.bed_center_x();
   plan.mesh.bed_center_y = printer.bed_center_y();
+  if (s.combine_infill) s.toolpaths.combine_infill_up_to = printer.max_layer;
+  plan.first_layer = printer.first_layer_height;
+  plan.default_layer = printer.default_layer_height;
+  plan.time_model = time_model_params(printer, s.toolpaths, GcodeSettings{});
   const auto planner = make_planner(plan.planner);
   const auto setup = prepare(plan, run);
   run.check();
-  if (s.combine_infill) s.toolpaths.combine_infill_up_to = printer.max_layer;
   const RegionSliceSettings region_settings{s.toolpaths, s.support, s.support_settings};
   const ZProfile& p = *setup->profile;
   std::vector<PlanRegion> regions;
@@ -106,7 +125,10 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
     const Mesh& mesh = setup->model.loaded.mesh;
     const std::string title = out.model_name + " — " + std::string(to_string(plan.planner)) + ", " +
                               std::string(to_string(plan.metric));
-    out.plot_svg = regions.size() == 1 ? plan_svg(*setup->objective, regions[0].plan, title)
+    const std::string caption =
+        out.plan.times ? "estimated " + times_text(*out.plan.times, p.params().min_layer, out.rsmd)
+                       : std::string();
+    out.plot_svg = regions.size() == 1 ? plan_svg(*setup->objective, regions[0].plan, title, caption)
                                        : regions_svg(p, regions, title);
     out.model_3mf = three_mf(mesh, boundaries, out.model_name);
     std::vector<Color> colors(setup->saliency.size());

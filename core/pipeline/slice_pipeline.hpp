@@ -11,6 +11,7 @@
 
 #include "core/common/progress.hpp"
 #include "core/export/plan_document.hpp"
+#include "core/gcode/gcode_writer.hpp"
 #include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 #include "core/printer/printer_profile.hpp"
@@ -51,6 +52,10 @@ struct SliceResult {
 // `settings` take them from it: for a front end that refuses bad settings at once (a job's 400).
 // Throws InputError naming the setting at fault.
 void check_slice_settings(const SliceSettings& settings, const PrinterProfile& printer);
+
+// The time model's printer, toolpath and G-code values (its calibrated factors stay).
+TimeModelParams time_model_params(const PrinterProfile& printer, const ToolpathSettings& toolpaths,
+                                  const GcodeSettings& gcode);
 
 // Throws InputError naming the setting or file at fault, Cancelled when run.cancel fires.
 // plan.mesh.up = "auto" first chooses the orientation (core/pipeline/auto_orient, phase "orient").

@@ -18,9 +18,11 @@ std::string num(double v) {
 
 }  // namespace
 
-std::string plan_svg(const Objective& objective, const LayerPlan& plan, const std::string& title) {
+std::string plan_svg(const Objective& objective, const LayerPlan& plan, const std::string& title,
+                     const std::string& caption) {
   const ZProfile& p = objective.profile();
-  const double W = 720, H = 560, top = 40, bottom = 40, plot_h = H - top - bottom;
+  const double W = 720, top = caption.empty() ? 40 : 58, bottom = 40, H = 520 + top,
+               plot_h = H - top - bottom;
   const double left_x = 60, left_w = 300, right_x = 420, right_w = 260;
   const double a = p.params().min_layer, b = p.params().max_layer;
   auto y_of = [&](double z) { return top + plot_h * (1 - z / p.height()); };
@@ -30,6 +32,9 @@ std::string plan_svg(const Objective& objective, const LayerPlan& plan, const st
   s << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   s << "<text x=\"" << W / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">" << xml_escape(title)
     << "</text>\n";
+  if (!caption.empty())
+    s << "<text x=\"" << W / 2 << "\" y=\"38\" text-anchor=\"middle\" font-size=\"11\">"
+      << xml_escape(caption) << "</text>\n";
   // Layers.
   for (const LayerReport& l : objective.layers(plan)) {
     const double t = b > a ? std::clamp((l.height - a) / (b - a), 0.0, 1.0) : 0.0;

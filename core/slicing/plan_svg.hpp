@@ -8,6 +8,8 @@
 
 namespace salient::core {
 
-std::string plan_svg(const Objective& objective, const LayerPlan& plan, const std::string& title);
+// `caption`: a line under the title (the estimated minutes against the uniform baselines).
+std::string plan_svg(const Objective& objective, const LayerPlan& plan, const std::string& title,
+                     const std::string& caption = {});
 
 }  // namespace salient::core

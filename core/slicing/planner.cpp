@@ -22,7 +22,25 @@ std::string_view to_string(PlannerKind kind) {
   return planner_names().at(static_cast<std::size_t>(kind));
 }
 
-std::unique_ptr<Planner> make_planner(PlannerKind kind) {
+const std::vector<std::string_view>& plan_goal_names() {
+  static const std::vector<std::string_view> names = {"time", "layers"};  // PlanGoal's order
+  return names;
+}
+
+std::optional<PlanGoal> parse_plan_goal(std::string_view name) {
+  const auto& names = plan_goal_names();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == name) return static_cast<PlanGoal>(i);
+  return std::nullopt;
+}
+
+std::string_view to_string(PlanGoal goal) {
+  return plan_goal_names().at(static_cast<std::size_t>(goal));
+}
+
+namespace {
+
+std::unique_ptr<Planner> make_own_planner(PlannerKind kind) {
   using namespace planners;
   switch (kind) {
     case PlannerKind::exact:
@@ -49,6 +67,13 @@ std::unique_ptr<Planner> make_planner(PlannerKind kind) {
       return make_coarse();
   }
   return nullptr;
+}
+
+}  // namespace
+
+std::unique_ptr<Planner> make_planner(PlannerKind kind) {
+  auto own = make_own_planner(kind);
+  return own ? planners::with_first_layer(std::move(own)) : nullptr;
 }
 
 std::unique_ptr<Planner> make_planner(std::string_view name) {

@@ -11,6 +11,7 @@
 #include "core/common/progress.hpp"
 #include "core/mesh/mesh.hpp"
 #include "core/slicing/layer_plan.hpp"
+#include "core/slicing/layer_time_model.hpp"
 #include "core/slicing/objective.hpp"
 
 namespace salient::core {
@@ -25,6 +26,16 @@ struct PlanTarget {
   static PlanTarget count(int n) { return {std::nullopt, n}; }
 };
 
+// What `exact` minimises under an ε target: the estimated printing time (ours, the default), or
+// the number of layers (the paper's T = N). The other planners search their own parameter for
+// the fewest layers either way; every plan is then judged by the same time.
+enum class PlanGoal { time, layers };
+
+// The name table: "time", "layers" (in this order), and back.
+const std::vector<std::string_view>& plan_goal_names();
+std::optional<PlanGoal> parse_plan_goal(std::string_view name);
+std::string_view to_string(PlanGoal goal);
+
 struct PlanRequest {
   const Objective& objective;            // the metric plans are judged by
   const Mesh* mesh = nullptr;            // the placed mesh (for `ha13`, which cuts sections)
@@ -32,6 +43,11 @@ struct PlanRequest {
   PlanTarget target;
   std::uint64_t seed = 1;  // for `random`
   RunContext run;
+  PlanGoal goal = PlanGoal::layers;
+  const LayerTimeModel* time = nullptr;  // the same cells as `objective`; needed for PlanGoal::time
+  // The first layer is this many cells thick, fixed (the printer's first-layer height); the
+  // planner plans the layers above it. 0: free.
+  int first_cells = 0;
 };
 
 // One step of an iterative planner (the paper's Fig. 10).

@@ -29,6 +29,24 @@ double now_seconds() {
 }
 
 // What "segment" decided (null without it), as `salient plan --segment` reports it.
+// Estimated minutes against the two uniform baselines (core::PlanTimes, from the time model);
+// print_seconds is the estimate of the G-code itself.
+nlohmann::json times_json(const core::SliceResult& r) {
+  if (!r.plan.times) return nullptr;
+  const core::PlanTimes& t = *r.plan.times;
+  return {{"plan_s", t.plan_seconds},
+          {"fine_layers", t.fine_layers},
+          {"fine_s", t.fine_seconds},
+          {"default_layer_height", t.default_layer_height},
+          {"default_layers", t.default_layers},
+          {"default_s", t.default_seconds},
+          {"default_rsmd", t.default_rsmd},
+          {"saving_vs_fine_s", t.saving_vs_fine()},
+          {"saving_vs_fine_percent", t.saving_vs_fine_percent()},
+          {"saving_vs_default_s", t.saving_vs_default()},
+          {"saving_vs_default_percent", t.saving_vs_default_percent()}};
+}
+
 nlohmann::json segmentation_json(const core::SliceResult& r) {
   if (!r.plan.segmentation) return nullptr;
   return nlohmann::json::parse(core::segmentation_json(*r.plan.segmentation));
@@ -223,6 +241,7 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
                        {"dropped_faces", r.dropped_faces},
                        {"orientation", orientation_json(r)},
                        {"segmentation", segmentation_json(r)},
+                       {"times", times_json(r)},
                        {"printer", printer.id},
                        {"gcode", gcode},
                        {"plan", plan_digest},

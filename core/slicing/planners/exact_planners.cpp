@@ -1,10 +1,13 @@
 // exact (ours, ALGORITHMS.md §4), ceo (exact on geometry alone, paper §7 "CEO") and random
 // (another plan's layers in random order, paper §7 "Random").
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <random>
 
 #include "core/slicing/exact_solver.hpp"
 #include "core/slicing/planners/planners.hpp"
+#include "core/slicing/time_solver.hpp"
 
 namespace salient::core::planners {
 namespace {
@@ -22,7 +25,26 @@ class ExactPlanner : public Planner {
       n = solver.fewest_layers_within(request.objective.sm_fine() + request.target.epsilon.value_or(0));
     }
     result.plan = solver.plan(n);
+    if (request.goal == PlanGoal::time && request.time && !request.target.layers) fastest(request, result);
     return result;
+  }
+
+ private:
+  // The time objective: the fastest plan within ε (time_solver), unless the fewest layers'
+  // plan is as fast — so `--objective time` never takes longer than `layers` by the model.
+  static void fastest(const PlanRequest& request, PlanResult& result) {
+    const Objective& obj = request.objective;
+    const TimedPlan t =
+        fastest_within(obj, *request.time, obj.sm_fine() + request.target.epsilon.value_or(0), request.run);
+    if (!t.feasible || t.seconds >= request.time->seconds(result.plan)) return;
+    result.plan = t.plan;
+    if (!t.proven_optimal) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf,
+                    "time objective: %.0f s, not proven optimal: at most %.1f %% above the optimum",
+                    t.seconds, 100 * (t.seconds / t.lower_bound - 1));
+      result.note = buf;
+    }
   }
 };
 

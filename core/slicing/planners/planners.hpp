@@ -20,6 +20,10 @@ std::unique_ptr<Planner> make_exact();
 std::unique_ptr<Planner> make_random();
 std::unique_ptr<Planner> make_ceo();
 
+// `planner` behind PlanRequest::first_cells: the fixed first layer, then `planner` on the
+// profile above it (ZProfile::window) with the ε left over or one layer fewer.
+std::unique_ptr<Planner> with_first_layer(std::unique_ptr<Planner> planner);
+
 // For planners indexed by layer count: plan(n) for n in [fewest, most]. With an ε target the
 // smallest n whose plan has E ≤ ε; with a count target that count, clamped (and noted).
 PlanResult search_count(const PlanRequest& request, const std::function<LayerPlan(int)>& plan);

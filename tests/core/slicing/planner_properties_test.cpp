@@ -1,7 +1,7 @@
 // Properties every planner must have, on every shared model and both metrics: valid plans
 // (α..ᾱ, summing to H), E ≤ ε when asked for ε, the requested count when reachable, and never
 // better than `exact` (fewer layers at equal ε, lower E at equal count). adapslice's trace
-// never gains layers.
+// never gains layers. With a fixed first layer (the printer's) the same hold above it.
 #include <doctest/doctest.h>
 
 #include <filesystem>
@@ -16,12 +16,16 @@ using namespace salient::core;
 
 namespace {
 
-void check_all_planners(const Mesh& mesh, const std::vector<float>& saliency, Metric metric) {
+void check_all_planners(const Mesh& mesh, const std::vector<float>& saliency, Metric metric,
+                        int first_cells = 0) {
+  CAPTURE(first_cells);
   const ZProfile profile = ZProfile::build(mesh, saliency, {});
   const Objective obj(profile, metric), geo(profile, metric, true);
   const double eps = obj.epsilon(0.05);
   const double slack = 1e-9 * std::max(1.0, obj.e_coarse());
-  const auto request = [&](PlanTarget t) { return PlanRequest{obj, &mesh, &geo, t, 3, {}}; };
+  const auto request = [&](PlanTarget t) {
+    return PlanRequest{obj, &mesh, &geo, t, 3, {}, PlanGoal::layers, nullptr, first_cells};
+  };
   const PlanResult exact_eps = make_planner("exact")->plan(request(PlanTarget::within(eps)));
   const int n_ref = exact_eps.plan.layer_count();
   const PlanResult exact_n = make_planner("exact")->plan(request(PlanTarget::count(n_ref)));
@@ -35,6 +39,7 @@ void check_all_planners(const Mesh& mesh, const std::vector<float>& saliency, Me
     for (const PlanResult* r : {&by_eps, &by_count}) {
       CHECK(check_plan(profile, r->plan) == "");
       CHECK(profile.z(r->plan.boundaries.back()) == doctest::Approx(profile.height()));
+      if (first_cells > 0) CHECK(r->plan.width(0) == first_cells);
     }
     if (kind != PlannerKind::coarse) {  // coarse ignores ε by definition
       CHECK(obj.error(by_eps.plan) <= eps + slack);
@@ -65,6 +70,7 @@ void check_model(const char* file, const char* up) {
     check_all_planners(m.mesh, uniform, metric);
     check_all_planners(m.mesh, painted, metric);
   }
+  check_all_planners(m.mesh, painted, Metric::area, 20);  // a 0.2 mm first layer
 }
 
 }  // namespace
