@@ -65,10 +65,12 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf(
-          "%s: %d layers (finest %d, %.1f%% fewer) for %s; print %.0f min, %.2f m filament; sliced in %.2f s "
+          "%s: %d layers (finest %d, %.1f%% fewer), RSMD %.4f, for %s; print %.0f min, %.2f m filament; "
+          "sliced in %.2f s "
           "-> %s\n",
           r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),
-          printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds, o->output.c_str());
+          r.rsmd, printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds,
+          o->output.c_str());
       if (r.plan.times)
         std::printf("estimated (time model): %s\n",
                     core::times_text(*r.plan.times, r.plan.min_layer, r.rsmd).c_str());

@@ -30,6 +30,7 @@ TimeModelParams time_model_params(const PrinterProfile& printer, const ToolpathS
   TimeModelParams t;
   t.print_speed = printer.print_speed;
   t.first_layer_speed = printer.first_layer_speed;
+  t.travel_speed = printer.travel_speed;
   t.line_width = toolpaths.line_width;
   t.walls = toolpaths.walls;
   t.infill_density = toolpaths.infill_density;

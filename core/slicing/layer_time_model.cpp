@@ -101,6 +101,7 @@ LayerFeatures LayerTimeModel::features(int i, int j) const {
   LayerFeatures f;
   f.first = a == 0;
   const double perimeter = s.perimeter[mid];
+  f.section_area = s.area[mid];
   f.wall_length = p.walls * perimeter;
   const double inner = std::max(0.0, s.area[mid] - p.walls * spacing * perimeter);
   double skin = inner;
@@ -119,6 +120,7 @@ LayerFeatures LayerTimeModel::features(int i, int j) const {
         p.combine_infill_up_to > 0 ? std::max(1.0, std::floor(p.combine_infill_up_to / h + 1e-9)) : 1.0;
     const double line_spacing = (p.line_width - group * h * (1 - M_PI / 4)) / p.infill_density;
     f.sparse_length = sparse / line_spacing / group;
+    f.combined = group > 1;
     f.infill_lines += std::sqrt(sparse) / line_spacing / group;
   }
   return f;
@@ -134,7 +136,9 @@ double LayerTimeModel::layer_seconds(int i, int j) const {
     speed = std::max(speed * nominal / p.min_layer_time, std::min(speed, p.min_print_speed));
   const double weighted =
       p.wall_factor * f.wall_length + p.solid_factor * f.solid_length + p.sparse_factor * f.sparse_length;
-  return p.layer_overhead + weighted / speed + p.line_overhead * f.infill_lines;
+  const double travel = (p.travel_factor + (f.combined ? p.combined_travel_factor : 0)) *
+                        std::sqrt(f.section_area) / p.travel_speed;
+  return p.layer_overhead + weighted / speed + p.line_overhead * f.infill_lines + travel;
 }
 
 double LayerTimeModel::seconds(const LayerPlan& plan) const {

@@ -10,9 +10,9 @@
 // mm) above or below: the horizontal projection of the up-facing surface just above the layer
 // and of the down-facing surface just below it is that area. Seconds are lengths over the
 // print speed, each role with a factor for acceleration and corners, plus an overhead per
-// layer (Z move, travel, retraction) and one per infill line (the stop at each end), and the
-// G-code writer's minimum layer time. The factors are calibrated against estimate_gcode on
-// real G-code (tests/bench/time_model_bench, BENCHMARKS.md "Step 11 — minutes").
+// layer (Z move, retraction), one per infill line (the stop at each end), travel in proportion
+// to the section's size, and the G-code writer's minimum layer time. The factors are calibrated against
+// estimate_gcode on real G-code (tests/bench/time_model_bench, BENCHMARKS.md "Step 11 — minutes").
 #pragma once
 
 #include <memory>
@@ -27,8 +27,8 @@ namespace salient::core {
 struct TimeModelParams {
   // The printer's (PrinterProfile) and the toolpaths' (ToolpathSettings) values; the defaults
   // are generic-i3's and the toolpath defaults.
-  double print_speed = 50, first_layer_speed = 20;  // mm/s
-  double line_width = 0.45;                         // mm
+  double print_speed = 50, first_layer_speed = 20, travel_speed = 150;  // mm/s
+  double line_width = 0.45;                                             // mm
   int walls = 2;
   double infill_density = 0.2;
   double top_thickness = 0.8, bottom_thickness = 0.8;  // mm
@@ -36,14 +36,19 @@ struct TimeModelParams {
   double min_layer_time = 8, min_print_speed = 10;     // s, mm/s (GcodeSettings)
   // Calibrated (see the file comment): seconds per layer, per infill line, and the factor by
   // which each role's length/speed underestimates its time.
+  // Travel is the section's size √area times a factor, and another where sparse infill is
+  // combined (each thin layer then prints the slivers of its own sparse area, all over).
   double layer_overhead = 1.2, line_overhead = 0.06;
   double wall_factor = 1.25, solid_factor = 1.0, sparse_factor = 1.0;
+  double travel_factor = 5, combined_travel_factor = 25;
 };
 
 // What a layer prints, as the model sees it (mm of path, count of infill lines).
 struct LayerFeatures {
   double wall_length = 0, solid_length = 0, sparse_length = 0, infill_lines = 0;
-  bool first = false;  // the printer's first layer (its own speed)
+  double section_area = 0;  // mm²
+  bool combined = false;    // its sparse infill is shared with neighbours (printed on one of them)
+  bool first = false;       // the printer's first layer (its own speed)
 };
 
 class LayerTimeModel {

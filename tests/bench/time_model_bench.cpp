@@ -19,7 +19,7 @@ using namespace salient::core;
 
 namespace {
 
-constexpr int k = 5;  // overhead, walls, solid, sparse, lines
+constexpr int k = 7;  // overhead, walls, solid, sparse, lines, travel, combined travel
 
 struct Fit {
   double a[k][k] = {}, b[k] = {};
@@ -76,6 +76,8 @@ void regressors(const LayerTimeModel& m, int i, int j, double (&x)[k]) {
   x[2] = f.solid_length / speed;
   x[3] = f.sparse_length / speed;
   x[4] = f.infill_lines;
+  x[5] = std::sqrt(f.section_area) / p.travel_speed;
+  x[6] = f.combined ? x[5] : 0;
 }
 
 Run slice_and_sample(const std::string& model, const std::string& up, PlannerKind planner,
@@ -154,6 +156,12 @@ int main(int argc, char** argv) {
     runs.push_back(slice_and_sample(model, up, PlannerKind::uniform, 0.2, printer));
   }
   Fit fit;
+  // A run whose G-code is (nearly) empty — a mesh too broken to section — says nothing.
+  std::erase_if(runs, [](const Run& r) {
+    if (r.estimate > 0.2 * r.model) return false;
+    std::printf("%s: left out, estimate %.0f s (broken sections)\n", r.name.c_str(), r.estimate);
+    return true;
+  });
   for (const Run& r : runs)
     for (const Sample& s : r.samples) fit.add(s.x, s.y);
   const std::vector<double> c = fit.solve();

@@ -44,6 +44,7 @@ const std::map<core::SettingId, std::pair<json, std::string>>& samples() {
       {I::layers, {50, "50"}},
       {I::layer_height, {0.2, "0.2"}},
       {I::metric, {"paper", "paper"}},
+      {I::objective, {"layers", "layers"}},
       {I::saliency, {"painted", "painted"}},
       {I::saliency_file, {"values.txt", "values.txt"}},
       {I::seed, {7, "7"}},

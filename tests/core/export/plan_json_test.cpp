@@ -54,6 +54,32 @@ TEST_CASE("a plan written is read back: its layers, boundaries and summary") {
   CHECK(plan_json(back) == text);  // nothing lost on the way (but the SegOpt report)
 }
 
+TEST_CASE("a plan's objective and minutes against the uniform baselines are written and read back") {
+  PlanDocument d = two_layers();
+  d.objective = "time";
+  PlanTimes t;
+  t.plan_seconds = 3000;
+  t.fine_layers = 400;
+  t.fine_seconds = 4000;
+  t.default_layer_height = 0.2;
+  t.default_layers = 200;
+  t.default_seconds = 2500;
+  t.default_rsmd = 0.33;
+  d.times = t;
+  const std::string text = plan_json(d);
+  CHECK(text.find("\"saving_vs_fine_percent\": 25.0") != std::string::npos);
+  CHECK(text.find("\"saving_vs_default_s\": -500.0") != std::string::npos);
+  const PlanDocument back = read_plan_json(text, "p.json");
+  CHECK(back.objective == "time");
+  REQUIRE(back.times);
+  CHECK(back.times->fine_layers == 400);
+  CHECK(back.times->default_rsmd == 0.33);
+  CHECK(back.times->saving_vs_fine() == 1000);
+  CHECK(plan_json(back) == text);
+  // A plan without them (older salient) has none.
+  CHECK_FALSE(read_plan_json(plan_json(two_layers()), "p.json").times);
+}
+
 TEST_CASE("a segmented plan: printed layers without the objective's view, and the SegOpt report") {
   PlanDocument d = two_layers();
   for (PlanLayer& l : d.layers) l.saliency.reset(), l.cos.reset(), l.sm.reset();
