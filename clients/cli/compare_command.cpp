@@ -57,7 +57,8 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
       o->plan.mesh.bed_center_x = printer->bed_center_x();
       o->plan.mesh.bed_center_y = printer->bed_center_y();
       const auto setup = core::prepare(o->plan);
-      const core::PlanRequest base = setup->request({});
+      core::PlanRequest base = setup->request({});
+      base.goal = core::PlanGoal::layers;  // Table 1 compares layer counts: exact as the fewest layers
       core::Comparison c = core::compare_planners(base, setup->rho, core::planner_names());
       add_segopt_rows(*setup, c);
       const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
