@@ -27,6 +27,11 @@ echo "== compare with spectral saliency (seconds exclude the saliency itself)"
 for m in stanford-bunny.obj:y spot.obj:y fandisk.obj:y; do
   "$build/clients/salient" compare "$models/${m%%:*}" --up "${m##*:}" --height 80 --saliency spectral
 done
+echo "== Step 11: the layer time model against our estimator on real G-code (calibration)"
+"$build/tests/bench/time_model_bench" "$models"/stanford-bunny.obj:y "$models"/spot.obj:y "$models"/fandisk.obj:y \
+  "$models"/cow.obj:y "$models"/teapot.obj:y "$models"/suzanne.obj:y "$models"/igea.ply:z
+echo "== Step 11: minutes — exact(time), exact(layers), uniform 0.1 and 0.2 mm (spectral, 80 mm, generic-i3)"
+bash tests/bench/time_saving_bench.sh "$build"
 echo "== automatic orientation (--up auto) on the shared models"
 bash tests/bench/orient_bench.sh "$build"
 echo "== SegOpt (--segment) on the shared models and a half-salient sphere"
