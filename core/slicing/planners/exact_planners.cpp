@@ -39,10 +39,12 @@ class ExactPlanner : public Planner {
     if (!t.feasible || t.seconds >= request.time->seconds(result.plan)) return;
     result.plan = t.plan;
     if (!t.proven_optimal) {
-      char buf[160];
-      std::snprintf(buf, sizeof buf,
-                    "time objective: %.0f s, not proven optimal: at most %.1f %% above the optimum",
-                    t.seconds, 100 * (t.seconds / t.lower_bound - 1));
+      char buf[200];
+      std::snprintf(
+          buf, sizeof buf,
+          "time objective: within %.0f s (%.2f %%) of the fastest plan; the exact search was cut short, "
+          "so not proven optimal",
+          t.seconds - t.lower_bound, 100 * (t.seconds / t.lower_bound - 1));
       result.note = buf;
     }
   }
