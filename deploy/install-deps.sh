@@ -23,7 +23,7 @@ build_packages=(
   # `make format-check`, which CI runs: the one formatter version the tree is written with
   clang-format
 )
-peer_packages=(prusa-slicer printrun wrk hyperfine)
+peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 
 packages=("${build_packages[@]}")
 if [[ "${1:-}" == "--peers" ]]; then packages+=("${peer_packages[@]}"); fi
