@@ -43,6 +43,10 @@ struct ToolpathSettings {
   // all of them have sparse infill (Sabourin 1996's fast interior, the paper's solid option);
   // 0 prints it on every layer.
   double combine_infill_up_to = 0;
+  // An island of sparse infill no larger than this (mm²) is filled solid instead, as PrusaSlicer's
+  // solid_infill_below_area (a printer-profile value): a sparse grid in a small section holds
+  // nothing up and prints as loose strands. 0 keeps every island sparse.
+  double solid_infill_below_area = 0;
   // A region of a segmented plan: only this XY area of the mesh is printed (empty: all of it).
   Polygons clip;
 };

@@ -37,6 +37,24 @@ Polygons covered_by(const std::vector<Polygons>& regions, std::size_t first, std
   return covered;
 }
 
+// PrusaSlicer's solid_infill_below_area (LayerRegion::prepare_fill_surfaces): each island of
+// sparse infill, holes taken off, of at most that area becomes solid.
+void fill_small_islands(const ToolpathSettings& s, Polygons& solid, Polygons& sparse) {
+  if (!(s.solid_infill_below_area > 0) || !(s.infill_density > 0) || s.infill_density >= 1 || sparse.empty())
+    return;
+  std::vector<ExPolygon> small, kept;
+  for (ExPolygon& island : union_ex(sparse)) {
+    double area = std::abs(signed_area(island.contour));
+    for (const Polygon& hole : island.holes) area -= std::abs(signed_area(hole));
+    (area <= s.solid_infill_below_area ? small : kept).push_back(std::move(island));
+  }
+  if (small.empty()) return;
+  const Polygons filled = to_polygons(small);
+  solid.insert(solid.end(), filled.begin(), filled.end());
+  solid = union_of(solid);
+  sparse = to_polygons(kept);
+}
+
 void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std::vector<double>& z,
                  const ToolpathSettings& s, std::vector<LayerToolpaths>& out) {
   const std::size_t n = out.size();
@@ -76,6 +94,7 @@ void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std:
     solid = union_of(solid);
   }
   layer.sparse = difference_of(inner, solid);
+  fill_small_islands(s, solid, layer.sparse);
   layer.solid_area = covered_area(solid);
   layer.sparse_area = covered_area(layer.sparse);
   const double angle = (i % 2 == 0 ? 45.0 : 135.0) * M_PI / 180;
