@@ -12,6 +12,7 @@
 #include "clients/cli/cli_options.hpp"
 #include "clients/cli/commands.hpp"
 #include "clients/cli/cura_peer.hpp"
+#include "core/common/input_error.hpp"
 #include "core/export/plan_file.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
 #include "core/printer/printer_profile.hpp"
@@ -69,15 +70,22 @@ void add_cura_row(const core::PlanningSetup& setup, const core::PlanRequest& bas
   cs.step = setup.profile->grid();
   const auto work = std::filesystem::temp_directory_path() / ("salient-cura-" + std::to_string(::getpid()));
   std::string why;
-  const auto cura = cura_adaptive_plan(setup.model.loaded.mesh, cs, work, why);
   core::ComparisonRow row;
   row.planner = "cura";
-  if (!cura) {
+  std::optional<CuraPlan> cura;
+  std::optional<ScoredFile> scored;
+  try {  // a peer that fails leaves its row saying why, not the table unprinted
+    cura = cura_adaptive_plan(setup.model.loaded.mesh, cs, work, why);
+    if (cura) scored = score_file(cura->layers, *setup.profile, "CuraEngine's G-code");
+  } catch (const core::InputError& e) {
+    why = std::string("failed: ") + e.what();
+  }
+  if (!scored) {
     row.note = "skipped: " + why;
     c.rows.push_back(row);
     return;
   }
-  const ScoredFile f = score_file(cura->layers, *setup.profile, "CuraEngine's G-code");
+  const ScoredFile& f = *scored;
   const std::string_view exact[] = {"exact"};
   const core::Comparison at = core::compare_with_plan(base, f.given.plan, "cura", exact);
   row.layers_at_count = at.rows[0].layers_at_count;

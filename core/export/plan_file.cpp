@@ -83,7 +83,7 @@ PlanFile gcode_cura_layers(std::string_view text, const std::string& name) {
     if (error != GcodeError::none) throw InputError(name, InputLocation::at_line(n), "malformed G-code word");
     if (g.is('M', 82)) relative_e = false;
     if (g.is('M', 83)) relative_e = true;
-    if (g.is('G', 92) && g.has('E')) e = g.get('E');
+    if (g.is('G', 92) && (g.has('E') || g.present == 0)) e = g.get('E');  // a bare G92 zeroes every axis
     if (!(g.is('G', 0) || g.is('G', 1))) return;
     if (g.has('Z')) z = g.get('Z');
     if (!g.has('E')) return;
