@@ -23,9 +23,9 @@ for method in spectral lee05; do
 done
 echo "== eigen-decomposition of the working mesh's Laplacian: Eigen dense (all pairs) vs Spectra (part)"
 "$build/tests/bench/eigen_bench" "$models"/stanford-bunny.obj 500 1000 2000
-echo "== compare with spectral saliency (seconds exclude the saliency itself)"
+echo "== compare with spectral saliency (seconds exclude the saliency itself; --peers: Cura's adaptive layers as a row)"
 for m in stanford-bunny.obj:y spot.obj:y fandisk.obj:y; do
-  "$build/clients/salient" compare "$models/${m%%:*}" --up "${m##*:}" --height 80 --saliency spectral
+  "$build/clients/salient" compare "$models/${m%%:*}" --up "${m##*:}" --height 80 --saliency spectral --peers
 done
 echo "== automatic orientation (--up auto) on the shared models"
 bash tests/bench/orient_bench.sh "$build"
@@ -57,6 +57,8 @@ if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
   echo "== peer: our estimate of PrusaSlicer's own G-code against its estimate"
   grep "estimated printing time (normal mode)" /tmp/salient_bench_prusa.gcode
   "$build/clients/salient" estimate /tmp/salient_bench_prusa.gcode
+  echo "== peer: filament at 20 % infill, ours against PrusaSlicer at the same walls and skins"
+  bash tests/bench/filament_bench.sh "$build"
 else
   echo "== peer comparison skipped: install with deploy/install-deps.sh --peers"
 fi
