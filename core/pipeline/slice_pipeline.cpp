@@ -27,6 +27,7 @@ void check_slice_settings(const SliceSettings& s, const PrinterProfile& printer)
 
 SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
   check_slice_settings(s, printer);  // before the orientations are sliced
+  s.toolpaths.resolution = printer.gcode_resolution;
   std::optional<OrientationReport> orientation;
   if (s.plan.mesh.up == "auto") {
     orientation = choose_orientation(s, printer, run);
