@@ -102,6 +102,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.gcode = std::move(g.text);
   out.print_seconds = g.seconds;
   out.filament_mm = g.filament_mm;
+  out.stream = g.stream;
   for (const auto& l : toolpaths) out.open_contours += l.open_chains;
   if (s.artefacts) {
     const Mesh& mesh = setup->model.loaded.mesh;
