@@ -39,6 +39,9 @@ struct ToolpathSettings {
   double infill_density = 0.2;    // 0..1, rectilinear
   double skirt_distance = 3;      // mm from the first layer's outline; 0 for no skirt
   double max_gap = 3.0;           // mm: open section chains closed up to this gap
+  // Sections are simplified within this deviation (mm; the printer's gcode_resolution) before the
+  // walls are inset, so walls, skins and infill outlines follow it; 0 keeps every mesh vertex.
+  double resolution = 0.0125;
   // Sparse infill is printed once for as many thin layers as fit under this height (mm), where
   // all of them have sparse infill (Sabourin 1996's fast interior, the paper's solid option);
   // 0 prints it on every layer.

@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "core/geometry/mesh_section.hpp"
+#include "core/geometry/polygon_simplify.hpp"
 #include "core/toolpath/infill_pattern.hpp"
 
 namespace salient::core {
@@ -160,8 +161,10 @@ std::vector<LayerToolpaths> build_layers(const Mesh& mesh, const std::vector<dou
   std::vector<Polygons> regions(n);  // the layer's solid area
   std::vector<LayerToolpaths> out(n);
   for (std::size_t i = 0; i < n; ++i) {
-    regions[i] =
-        s.clip.empty() ? union_of(sections[i].loops) : intersection_of(union_of(sections[i].loops), s.clip);
+    // Simplified before the walls are inset (not each wall after): one pass serves walls, skins
+    // and infill outlines, and the offsets of a ring within `resolution` stay within it.
+    const Polygons loops = simplify_polygons(sections[i].loops, s.resolution);
+    regions[i] = s.clip.empty() ? union_of(loops) : intersection_of(union_of(loops), s.clip);
     out[i].region = regions[i];
     out[i].z_bottom = z[i];
     out[i].z_top = z[i + 1];

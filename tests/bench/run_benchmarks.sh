@@ -37,6 +37,10 @@ echo "== printer link: lines per second to salient-sim, ours vs printcore; share
 bash tests/bench/link_bench.sh "$build"
 echo "== s3g: actions per second to the simulated Sailfish board, ours vs gpx -s; share of a 115,200 baud wire"
 bash tests/bench/s3g_bench.sh "$build"
+if command -v prusa-slicer >/dev/null; then
+  echo "== G-code density: lines and the busiest second, ours (arcs off and on) vs PrusaSlicer"
+  bash tests/bench/gcode_density_bench.sh "$build"
+fi
 if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
   echo "== peer: model info, salient vs PrusaSlicer (whole process, hyperfine)"
   for m in stanford-bunny.obj fandisk.obj Spider_binary.stl; do

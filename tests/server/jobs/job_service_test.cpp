@@ -286,3 +286,19 @@ TEST_CASE(
   CHECK(result.at("segmentation").is_object());
   CHECK(result.at("segmentation") == nlohmann::json::parse(text).at("segmentation"));
 }
+
+TEST_CASE("a job's result reports the stream its G-code needs against the printer's link") {
+  const salient::test::ScratchDir dir("jobs-stream");
+  Store store(dir.path);
+  JobService service(store, {});
+  service.start();
+  const auto submitted = service.submit("spot.obj", model_bytes("spot.obj"), R"({"up": "y", "height": 20})");
+  const Job done = wait_finished(store, submitted.job.id);
+  REQUIRE(done.state == JobState::done);
+  const nlohmann::json stream = nlohmann::json::parse(*done.result).at("stream");
+  CHECK(stream.at("baud") == 115200);  // generic-i3's connection.baud
+  CHECK(stream.at("peak_commands_per_second").get<double>() > 0);
+  CHECK(stream.at("link_commands_per_second").get<double>() >
+        stream.at("peak_commands_per_second").get<double>());
+  CHECK(stream.at("starves") == false);
+}
