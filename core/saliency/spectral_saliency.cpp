@@ -58,6 +58,11 @@ std::vector<Vec3> smoothed(const Mesh& mesh, const PointGrid& grid, double t, co
   return out;
 }
 
+bool same_positions(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                    [](const Vec3& p, const Vec3& q) { return p.x == q.x && p.y == q.y && p.z == q.z; });
+}
+
 Mesh canonical_copy(const Mesh& mesh) {
   const std::size_t n = mesh.vertex_count();
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -207,17 +212,27 @@ std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& o
   // decomposition per TBB thread. OpenBLAS's own threads inside would oversubscribe the cores and
   // spin (measured: slower than either alone), so they are turned off; this file is the process's
   // only user of BLAS.
+  std::vector<Mesh> meshes(10);
+  for (int job = 0; job < 10; ++job) {
+    meshes[job].triangles = work.triangles;
+    meshes[job].positions = smoothed(work, grid, (job / 2 + 1) * eps * eps, job % 2 == 0 ? ones : k);
+  }
+  // Where the smoothing radius is below every edge, a scale leaves the mesh as it was: equal
+  // meshes have equal spectra, so each distinct one is decomposed once.
+  std::vector<int> same(10), distinct;
+  for (int job = 0; job < 10; ++job) {
+    same[job] = job;
+    for (int earlier : distinct)
+      if (same_positions(meshes[earlier].positions, meshes[job].positions)) same[job] = earlier;
+    if (same[job] == job) distinct.push_back(job);
+  }
   std::vector<std::vector<double>> s(10);
-  auto one = [&](int job) {
-    run.check();
-    const double t = (job / 2 + 1) * eps * eps;
-    Mesh m;
-    m.triangles = work.triangles;
-    m.positions = smoothed(work, grid, t, job % 2 == 0 ? ones : k);
-    s[job] = spectral_irregularity(m);
-  };
   openblas_set_num_threads(1);
-  tbb::parallel_for(0, 10, one);
+  tbb::parallel_for(std::size_t(0), distinct.size(), [&](std::size_t d) {
+    run.check();
+    s[distinct[d]] = spectral_irregularity(meshes[distinct[d]]);
+  });
+  for (int job = 0; job < 10; ++job) s[job] = s[same[job]];
   run.check();
   run.report("saliency", 0.8);
   std::vector<double> multi(work.vertex_count(), 0);
