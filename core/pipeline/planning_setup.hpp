@@ -24,7 +24,7 @@ struct PlanOptions {
   std::optional<double> layer_height;
   Metric metric = Metric::area;
   PlannerKind planner = PlannerKind::exact;
-  SaliencyMethod saliency = SaliencyMethod::uniform;
+  SaliencyMethod saliency = SaliencyMethod::spectral;
   std::string saliency_file;  // per-vertex values (implies painted)
   std::uint64_t seed = 1;
   bool segment = false;    // SegOpt (paper §5): cut by a vertical plane where that saves time
