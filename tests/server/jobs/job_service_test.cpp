@@ -311,7 +311,7 @@ TEST_CASE("a second job on the same model with other settings reuses the salienc
         std::pair<std::uint64_t, std::uint64_t>{2, 2});
 }
 
-TEST_CASE("painted saliency in a job: a PLY's vertex quality paints the plan; a model without paint is 422") {
+TEST_CASE("painted saliency in a job: a PLY's vertex quality paints the plan, a model without paint is 422") {
   const salient::test::ScratchDir dir("jobs-painted");
   Store store(dir.path);
   JobService service(store, {});
@@ -347,7 +347,7 @@ TEST_CASE("painted saliency in a job: a PLY's vertex quality paints the plan; a 
   }
 }
 
-TEST_CASE("a job with no settings uses spectral saliency; an older job's canonical form keeps its uniform") {
+TEST_CASE("a job with no settings uses spectral saliency, an older job's canonical form keeps its uniform") {
   const JobSettings none = parse_job_settings("");
   CHECK(none.slice.plan.saliency == salient::core::SaliencyMethod::spectral);
   CHECK(none.canonical.find(R"("saliency":"spectral")") != std::string::npos);
