@@ -10,6 +10,7 @@
 #include "core/common/progress.hpp"
 #include "core/pipeline/placed_model.hpp"
 #include "core/saliency/saliency.hpp"
+#include "core/saliency/saliency_cache.hpp"
 #include "core/slicing/objective.hpp"
 #include "core/slicing/planner.hpp"
 
@@ -23,12 +24,13 @@ struct PlanOptions {
   std::optional<double> layer_height;
   Metric metric = Metric::area;
   PlannerKind planner = PlannerKind::exact;
-  SaliencyMethod saliency = SaliencyMethod::uniform;
+  SaliencyMethod saliency = SaliencyMethod::spectral;
   std::string saliency_file;  // per-vertex values (implies painted)
   std::uint64_t seed = 1;
   bool segment = false;    // SegOpt (paper §5): cut by a vertical plane where that saves time
   int segment_depth = 1;   // levels of cutting (2+: each part is cut again where that saves time)
   int segment_planes = 1;  // planes timed, best seam cost first (the paper times only the best)
+  SaliencyCache* saliency_cache = nullptr;  // not a setting: where a caller keeps saliency for reuse
 };
 
 // Everything a planner needs, built once. Members refer to each other: not copyable.

@@ -21,6 +21,8 @@ for method in spectral lee05; do
     /usr/bin/time -f "   peak %M KB" "$build/tests/bench/saliency_bench" "$method" "$models/$m" 2>&1
   done
 done
+echo "== spectral saliency end to end: salient saliency at 80 mm, wall seconds (median of 3)"
+bash tests/bench/saliency_bench.sh "$build"
 echo "== eigen-decomposition of the working mesh's Laplacian: Eigen dense (all pairs) vs Spectra (part)"
 "$build/tests/bench/eigen_bench" "$models"/stanford-bunny.obj 500 1000 2000
 echo "== compare with spectral saliency (seconds exclude the saliency itself; --peers: Cura's adaptive layers as a row)"
