@@ -11,6 +11,8 @@ build_packages=(
   nlohmann-json3-dev libcgal-dev libeigen3-dev libspectra-dev libpolyclipping-dev
   libsqlite3-dev libtbb-dev libglpk-dev doctest-dev libspdlog-dev libcli11-dev
   libtomlplusplus-dev zlib1g-dev libpng-dev
+  # the spectral saliency's eigensolver: LAPACK's dsyevd through LAPACKE, on OpenBLAS
+  liblapacke-dev libopenblas-dev
   # fuzz targets (libFuzzer) and the sanitizer build
   clang libclang-rt-14-dev
   # end-to-end tests speak to the daemon as users do (pgrep/pkill: procps; mount, for the full-disk
@@ -23,7 +25,7 @@ build_packages=(
   # `make format-check`, which CI runs: the one formatter version the tree is written with
   clang-format
 )
-peer_packages=(prusa-slicer printrun wrk hyperfine)
+peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 
 packages=("${build_packages[@]}")
 if [[ "${1:-}" == "--peers" ]]; then packages+=("${peer_packages[@]}"); fi

@@ -125,7 +125,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_job_routes(router, store, jobs, config);
   add_printer_routes(router, printers, store, config);
   add_octoprint_routes(router, store, printers, config);
-  add_metrics_route(router, metrics, store, printers, hub);
+  add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());
   add_event_route(router);
   http.websocket = events_endpoint(hub, keys);
   HttpServer server(http, router);

@@ -1,14 +1,23 @@
-// `salient compare MODEL`: the paper's Table 1 for one model, every planner side by side.
+// `salient compare MODEL`: the paper's Table 1 for one model, every planner side by side;
+// `--plan FILE` scores a plan made elsewhere in the same table, `--peers` adds Cura's adaptive
+// layers as a row.
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
 #include "clients/cli/cli_options.hpp"
 #include "clients/cli/commands.hpp"
+#include "clients/cli/cura_peer.hpp"
+#include "core/common/input_error.hpp"
+#include "core/export/plan_file.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/slicing/comparison.hpp"
+#include "core/slicing/given_plan.hpp"
 
 namespace salient::cli {
 namespace {
@@ -36,6 +45,124 @@ void add_segopt_rows(const core::PlanningSetup& setup, core::Comparison& c) {
   }
 }
 
+// A plan from elsewhere, on our grid, with what the user should know about how it was read.
+struct ScoredFile {
+  core::GivenPlan given;
+  std::string format;
+};
+
+ScoredFile score_file(const core::PlanFile& file, const core::ZProfile& profile, const std::string& name) {
+  return {core::given_plan(profile, file.tops, file.lines, name), file.format};
+}
+
+std::string limits_note(const core::GivenPlan& g) {
+  return g.outside_limits > 0 ? std::to_string(g.outside_limits) + " layers outside min/max layer" : "";
+}
+
+// The row "cura": Cura's adaptive layers at their own count, with exact at that count and the
+// layers exact needs for Cura's loss in the note.
+void add_cura_row(const core::PlanningSetup& setup, const core::PlanRequest& base, core::Comparison& c) {
+  const auto printer = core::builtin_printer("generic-i3");
+  CuraSettings cs;
+  cs.min_layer = setup.profile->min_cells() * setup.profile->grid();
+  cs.max_layer = setup.profile->max_cells() * setup.profile->grid();
+  cs.first_layer = std::clamp(printer->first_layer_height, cs.min_layer, cs.max_layer);
+  cs.step = setup.profile->grid();
+  const auto work = std::filesystem::temp_directory_path() / ("salient-cura-" + std::to_string(::getpid()));
+  std::string why;
+  core::ComparisonRow row;
+  row.planner = "cura";
+  std::optional<CuraPlan> cura;
+  std::optional<ScoredFile> scored;
+  try {  // a peer that fails leaves its row saying why, not the table unprinted
+    cura = cura_adaptive_plan(setup.model.loaded.mesh, cs, work, why);
+    if (cura) scored = score_file(cura->layers, *setup.profile, "CuraEngine's G-code");
+  } catch (const core::InputError& e) {
+    why = std::string("failed: ") + e.what();
+  }
+  if (!scored) {
+    row.note = "skipped: " + why;
+    c.rows.push_back(row);
+    return;
+  }
+  const ScoredFile& f = *scored;
+  const std::string_view exact[] = {"exact"};
+  const core::Comparison at = core::compare_with_plan(base, f.given.plan, "cura", exact);
+  row.layers_at_count = at.rows[0].layers_at_count;
+  row.rsmd_at_count = at.rows[0].rsmd_at_count;
+  row.layers_at_rsmd = at.rows[0].layers_at_rsmd;
+  row.rsmd_at_rsmd = at.rows[0].rsmd_at_rsmd;
+  row.seconds = cura->seconds;
+  char note[160];
+  std::snprintf(note, sizeof note,
+                "its own count; exact at %d layers: RSMD %.4f, exact for Cura's RSMD: %d layers",
+                at.rows[1].layers_at_count, at.rows[1].rsmd_at_count, at.rows[1].layers_at_rsmd);
+  row.note = note;
+  if (f.given.outside_limits > 0) row.note += "; " + limits_note(f.given);
+  c.rows.push_back(std::move(row));
+  std::filesystem::remove_all(work);
+}
+
+nlohmann::json rows_json(const core::Comparison& c) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const auto& r : c.rows)
+    rows.push_back({{"planner", r.planner},
+                    {"layers_at_count", r.layers_at_count},
+                    {"rsmd_at_count", r.rsmd_at_count},
+                    {"layers_at_rsmd", r.layers_at_rsmd},
+                    {"rsmd_at_rsmd", r.rsmd_at_rsmd},
+                    {"seconds", r.seconds},
+                    {"note", r.note}});
+  return rows;
+}
+
+void print_rows(const core::Comparison& c) {
+  std::printf("%-16s %14s %16s %9s  %s\n", "planner", "RSMD @ layers", "layers @ RSMD", "seconds", "note");
+  for (const auto& r : c.rows) {
+    if (r.layers_at_count > 0)
+      std::printf("%-16s %8.4f @%4d %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), r.rsmd_at_count,
+                  r.layers_at_count, r.layers_at_rsmd, r.rsmd_at_rsmd, r.seconds, r.note.c_str());
+    else if (r.layers_at_rsmd > 0)  // the segopt rows: at ρ only
+      std::printf("%-16s %14s %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), "-", r.layers_at_rsmd,
+                  r.rsmd_at_rsmd, r.seconds, r.note.c_str());
+    else  // a peer that did not run
+      std::printf("%-16s %14s %16s %9s  %s\n", r.planner.c_str(), "-", "-", "-", r.note.c_str());
+  }
+}
+
+// `compare MODEL --plan FILE`: the file's plan first, every planner at its count and its loss.
+int compare_plan_file(const core::PlanningSetup& setup, const core::PlanRequest& base,
+                      const std::string& path, const std::string& model, bool json, const std::string& metric,
+                      const std::string& saliency) {
+  const core::PlanFile file = core::read_plan_file(path);
+  const std::string name = std::filesystem::path(path).filename().string();
+  const ScoredFile f = score_file(file, *setup.profile, name);
+  core::Comparison c = core::compare_with_plan(base, f.given.plan, "given", core::planner_names());
+  c.rows[0].note = limits_note(f.given);
+  if (json) {
+    const nlohmann::json j = {{"model", model},
+                              {"metric", metric},
+                              {"saliency", saliency},
+                              {"plan",
+                               {{"file", name},
+                                {"format", f.format},
+                                {"layers", f.given.plan.layer_count()},
+                                {"rsmd", c.reference_rsmd},
+                                {"top", f.given.top},
+                                {"outside_limits", f.given.outside_limits}}},
+                              {"fine_layers", c.fine_layers},
+                              {"coarse_layers", c.coarse_layers},
+                              {"rows", rows_json(c)}};
+    std::printf("%s\n", j.dump(2).c_str());
+    return 0;
+  }
+  std::printf("%s: %s metric, %s saliency; %s (%s, top %.3f mm): %d layers, RSMD %.4f (fine %d, coarse %d)\n",
+              model.c_str(), metric.c_str(), saliency.c_str(), name.c_str(), f.format.c_str(), f.given.top,
+              c.reference_layers, c.reference_rsmd, c.fine_layers, c.coarse_layers);
+  print_rows(c);
+  return 0;
+}
+
 }  // namespace
 
 void add_compare_command(CLI::App& app, CommandAction& action) {
@@ -44,10 +171,17 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
     SettingOptions given;
     core::PlanOptions plan;  // settings.slice.plan once applied
     bool json = false;
+    std::string plan_file;
+    bool peers = false;
   };
   auto o = std::make_shared<CompareOptions>();
   CLI::App* cmd = app.add_subcommand("compare", "Compare every planner on one model (the paper's Table 1)");
   o->given = add_plan_options(*cmd, o->settings, o->json, core::for_compare);
+  cmd->add_option(
+      "--plan", o->plan_file,
+      "Score this plan instead of exact's at rho: our plan JSON, G-code (PrusaSlicer, Cura, ours) or a "
+      "PrusaSlicer 3MF with a layer-height profile");
+  cmd->add_flag("--peers", o->peers, "Add a row for Cura's adaptive layers (where CuraEngine is installed)");
   cmd->callback([o, &action] {
     action = [o] {
       o->given.apply(o->settings);
@@ -59,19 +193,15 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
       const auto setup = core::prepare(o->plan);
       core::PlanRequest base = setup->request({});
       base.goal = core::PlanGoal::layers;  // Table 1 compares layer counts: exact as the fewest layers
+      const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
+      const std::string metric(core::to_string(o->plan.metric)), saliency(core::to_string(o->plan.saliency));
+      if (!o->plan_file.empty())
+        return compare_plan_file(*setup, base, o->plan_file, name, o->json, metric, saliency);
       core::Comparison c = core::compare_planners(base, setup->rho, core::planner_names());
       add_segopt_rows(*setup, c);
-      const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
+      if (o->peers) add_cura_row(*setup, base, c);
       if (o->json) {
-        nlohmann::json rows = nlohmann::json::array();
-        for (const auto& r : c.rows)
-          rows.push_back({{"planner", r.planner},
-                          {"layers_at_count", r.layers_at_count},
-                          {"rsmd_at_count", r.rsmd_at_count},
-                          {"layers_at_rsmd", r.layers_at_rsmd},
-                          {"rsmd_at_rsmd", r.rsmd_at_rsmd},
-                          {"seconds", r.seconds},
-                          {"note", r.note}});
+        const nlohmann::json rows = rows_json(c);
         nlohmann::json trace = nlohmann::json::array();
         for (const auto& s : c.adapslice_trace)
           trace.push_back({{"step", s.step}, {"layers", s.layers}, {"E", s.error}});
@@ -94,16 +224,7 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
           name.c_str(), std::string(core::to_string(o->plan.metric)).c_str(),
           std::string(core::to_string(o->plan.saliency)).c_str(), c.rho, c.reference_layers, c.fine_layers,
           c.coarse_layers, c.reference_rsmd);
-      std::printf("%-16s %14s %16s %9s  %s\n", "planner", "RSMD @ layers", "layers @ RSMD", "seconds",
-                  "note");
-      for (const auto& r : c.rows) {
-        if (r.layers_at_count > 0)
-          std::printf("%-16s %8.4f @%4d %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), r.rsmd_at_count,
-                      r.layers_at_count, r.layers_at_rsmd, r.rsmd_at_rsmd, r.seconds, r.note.c_str());
-        else  // the segopt rows: at ρ only
-          std::printf("%-16s %14s %9d (%.4f) %9.3f  %s\n", r.planner.c_str(), "-", r.layers_at_rsmd,
-                      r.rsmd_at_rsmd, r.seconds, r.note.c_str());
-      }
+      print_rows(c);
       std::printf("adapslice trace:");
       for (const auto& s : c.adapslice_trace)
         std::printf(" %s %d (E %.4g);", s.step.c_str(), s.layers, s.error);

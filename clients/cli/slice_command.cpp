@@ -80,6 +80,12 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       if (r.open_contours > 0)
         std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n",
                     r.open_contours, settings.toolpaths.max_gap);
+      if (r.stream.starves())
+        std::printf(
+            "warning: the G-code needs up to %.0f commands per second, more than a %d-baud link carries "
+            "(%.0f): it would stutter over USB serial (try the profile's gcode.arc_fitting or a coarser "
+            "gcode.resolution)\n",
+            r.stream.peak_commands_per_second, r.stream.baud, r.stream.link_commands_per_second);
       return 0;
     };
   });

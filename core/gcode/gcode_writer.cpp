@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "core/common/input_error.hpp"
+#include "core/gcode/arc_fitter.hpp"
 #include "core/gcode/time_estimator.hpp"
 
 namespace salient::core {
@@ -18,6 +19,20 @@ std::string fmt(const char* format, double a) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, a);
   return buf;
+}
+
+// A coordinate or E value with at most `decimals` decimals, trailing zeros dropped ("97.35",
+// "0.01686", "-1"): every byte counts on a serial link.
+std::string num(double a, int decimals) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, a);
+  std::string s = buf;
+  if (s.find('.') != std::string::npos) {
+    while (s.back() == '0') s.pop_back();
+    if (s.back() == '.') s.pop_back();
+  }
+  if (s == "-0") s = "0";
+  return s;
 }
 
 // Replaces {key} placeholders of a profile's start/end G-code.
@@ -46,7 +61,7 @@ const char* fan_off(GcodeFlavor f) {
 class LayerWriter {
  public:
   LayerWriter(const PrinterProfile& p, const GcodeSettings& s, bool relative_e)
-      : p_(p), s_(s), relative_e_(relative_e) {}
+      : p_(p), s_(s), relative_e_(relative_e), arcs_(p.arc_fitting && p.flavor != GcodeFlavor::sailfish) {}
 
   std::string write(const LayerToolpaths& layer, std::size_t index) {
     out_.str("");
@@ -55,7 +70,7 @@ class LayerWriter {
          << "\n;LAYER:" << index << "\n";
     if (static_cast<int>(index) == s_.fan_from_layer) out_ << fan_on(p_.flavor) << "\n";
     retract();
-    out_ << "G1 Z" << fmt("%.3f", layer.z_top) << " F" << fmt("%.0f", p_.travel_speed * 60) << "\n";
+    out_ << "G1 Z" << fmt("%.3f", layer.z_top) << feed(p_.travel_speed) << "\n";
     // Minimum layer time: slow every extrusion of a quick layer down in proportion, to a floor (a
     // speck of a layer would otherwise be printed at ~0 mm/s, forever).
     double speed = index == 0 ? p_.first_layer_speed : p_.print_speed;
@@ -70,6 +85,17 @@ class LayerWriter {
       unretract();
       const double e_per_mm = extrusion_area(path.width, path.height > 0 ? path.height : h) * e_per_mm_area;
       const std::size_t count = path.points.size() + (path.closed ? 1 : 0);
+      if (arcs_ && count >= 3) {
+        std::vector<Point2> points(path.points.begin(), path.points.end());
+        if (path.closed) points.push_back(path.points.front());
+        for (const PathMove& m : fit_arcs(points, p_.gcode_resolution)) {
+          if (m.arc)
+            extrude_arc(m, e_per_mm, speed);
+          else
+            extrude(m.to, e_per_mm, speed);
+        }
+        continue;
+      }
       for (std::size_t k = 1; k < count; ++k) extrude(path.points[k % path.points.size()], e_per_mm, speed);
     }
     return out_.str();
@@ -78,6 +104,14 @@ class LayerWriter {
   double filament() const { return filament_; }
 
  private:
+  // " F…" (mm/min) when the speed changes; G-code's feed rate is modal, so repeating it only
+  // lengthens the line.
+  std::string feed(double mm_per_s) {
+    const std::string f = fmt("%.0f", mm_per_s * 60);
+    if (f == feed_) return {};
+    feed_ = f;
+    return " F" + f;
+  }
   void check(const Point2& p) const {
     const double x0 = p_.origin_at_center ? -p_.bed_width / 2 : 0,
                  y0 = p_.origin_at_center ? -p_.bed_depth / 2 : 0;
@@ -93,8 +127,7 @@ class LayerWriter {
     check(to);
     const bool long_travel = std::hypot(to.x - at_.x, to.y - at_.y) > s_.retract_min_travel;
     if (!moved_ || (long_travel && !segment_inside(region, at_, to))) retract();
-    out_ << "G0 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " F"
-         << fmt("%.0f", p_.travel_speed * 60) << "\n";
+    out_ << "G0 X" << num(to.x, 3) << " Y" << num(to.y, 3) << feed(p_.travel_speed) << "\n";
     at_ = to;
     moved_ = true;
   }
@@ -103,32 +136,44 @@ class LayerWriter {
     const double e = std::hypot(to.x - at_.x, to.y - at_.y) * e_per_mm;
     filament_ += e;
     e_abs_ += e;
-    out_ << "G1 X" << fmt("%.3f", to.x) << " Y" << fmt("%.3f", to.y) << " E"
-         << fmt("%.5f", relative_e_ ? e : e_abs_) << " F" << fmt("%.0f", speed * 60) << "\n";
+    out_ << "G1 X" << num(to.x, 3) << " Y" << num(to.y, 3) << " E" << num(relative_e_ ? e : e_abs_, 5)
+         << feed(speed) << "\n";
     at_ = to;
+  }
+  // G2 (clockwise) / G3 (counter-clockwise) X Y I J E F, the centre relative to the start, as
+  // Marlin's ARC_SUPPORT and RepRapFirmware read it; its E is for the arc's length.
+  void extrude_arc(const PathMove& m, double e_per_mm, double speed) {
+    check(m.to);
+    const double e = m.length * e_per_mm;
+    filament_ += e;
+    e_abs_ += e;
+    out_ << (m.ccw ? "G3 X" : "G2 X") << num(m.to.x, 3) << " Y" << num(m.to.y, 3) << " I"
+         << num(m.center.x - at_.x, 3) << " J" << num(m.center.y - at_.y, 3) << " E"
+         << num(relative_e_ ? e : e_abs_, 5) << feed(speed) << "\n";
+    at_ = m.to;
   }
   void retract() {
     if (retracted_ || p_.retract_length <= 0) return;
     e_abs_ -= p_.retract_length;
-    out_ << "G1 E" << fmt("%.5f", relative_e_ ? -p_.retract_length : e_abs_) << " F"
-         << fmt("%.0f", p_.retract_speed * 60) << "\n";
+    out_ << "G1 E" << num(relative_e_ ? -p_.retract_length : e_abs_, 5) << feed(p_.retract_speed) << "\n";
     retracted_ = true;
   }
   void unretract() {
     if (!retracted_) return;
     e_abs_ += p_.retract_length;
-    out_ << "G1 E" << fmt("%.5f", relative_e_ ? p_.retract_length : e_abs_) << " F"
-         << fmt("%.0f", p_.retract_speed * 60) << "\n";
+    out_ << "G1 E" << num(relative_e_ ? p_.retract_length : e_abs_, 5) << feed(p_.retract_speed) << "\n";
     retracted_ = false;
   }
 
   const PrinterProfile& p_;
   const GcodeSettings& s_;
   bool relative_e_;
+  bool arcs_;  // never for Sailfish: s3g has no arcs (GPX skips G2/G3)
   std::ostringstream out_;
   Point2 at_{};
   bool moved_ = false, retracted_ = false;
   double e_abs_ = 0, filament_ = 0;
+  std::string feed_;  // the last F written
 };
 
 }  // namespace
@@ -154,10 +199,13 @@ GcodeResult write_gcode(const std::vector<LayerToolpaths>& layers, const Printer
   MachineLimits limits;
   limits.acceleration = limits.travel_acceleration = limits.retract_acceleration = printer.acceleration;
   limits.jerk[0] = limits.jerk[1] = printer.jerk;
-  const GcodeEstimate estimate = estimate_gcode((relative_e ? "M83\n" : "M82\n") + body, "generated", limits);
+  std::vector<CommandTiming> commands;
+  const GcodeEstimate estimate =
+      estimate_gcode((relative_e ? "M83\n" : "M82\n") + body, "generated", limits, &commands);
 
   GcodeResult result;
   result.seconds = estimate.seconds;
+  result.stream = stream_demand(commands, printer.baud);
   // The start code's prime line (and the end code's retraction) count too: the header says what
   // the whole file extrudes.
   const std::string start = fill_template(printer.start_gcode, printer),

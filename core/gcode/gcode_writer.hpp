@@ -1,10 +1,12 @@
 // G-code from toolpaths: Marlin (default), RepRap or Sailfish flavour, PrusaSlicer and Cura
-// layer comments, M73 progress, retraction on travel, fan and minimum layer time.
+// layer comments, M73 progress, retraction on travel, fan and minimum layer time; with the
+// profile's arc_fitting, G2/G3 arcs (not for Sailfish).
 #pragma once
 
 #include <string>
 #include <vector>
 
+#include "core/gcode/stream_demand.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/toolpath/toolpath.hpp"
 
@@ -24,6 +26,7 @@ struct GcodeResult {
   double seconds = 0;  // our estimate of the whole file
   double filament_mm = 0;
   std::size_t layers = 0;
+  StreamDemand stream;  // of the layers' commands, over a link at the printer's baud rate
 };
 
 // Throws InputError when a path leaves the printer's bed or the model is taller than it.

@@ -16,11 +16,13 @@ namespace {
 
 struct Block {
   double length;
-  double u[4];
+  double u[4];    // unit direction over X Y Z E at the start…
+  double out[4];  // …and at the end (they differ on an arc)
   double speed, accel;
   double entry = 0, exit = 0;  // planned speeds
   double safe = 0;             // speed it may start at from rest
   std::size_t layer;
+  std::size_t command;  // index into the command timings, when kept
 };
 
 double trapezoid_time(const Block& b) {
@@ -33,7 +35,8 @@ double trapezoid_time(const Block& b) {
 
 class Planner {
  public:
-  Planner(MachineLimits& limits, GcodeEstimate& out) : limits_(limits), out_(out) {}
+  Planner(MachineLimits& limits, GcodeEstimate& out, std::vector<CommandTiming>* commands)
+      : limits_(limits), out_(out), commands_(commands) {}
 
   // Junction speed as Marlin's classic jerk computes it: both blocks scaled to the smaller
   // nominal speed; per axis the "jerk" is the change of velocity when the axis keeps its
@@ -49,7 +52,7 @@ class Planner {
       double v = prev_larger ? b.speed : p.speed;
       double scale = 1;
       for (int k = 0; k < 4; ++k) {
-        const double v_exit = p.u[k] * p.speed * factor * scale, v_entry = b.u[k] * b.speed * scale;
+        const double v_exit = p.out[k] * p.speed * factor * scale, v_entry = b.u[k] * b.speed * scale;
         const double jerk =
             v_exit > v_entry ? ((v_entry > 0 || v_exit < 0) ? v_exit - v_entry : std::max(v_exit, -v_entry))
                              : ((v_entry < 0 || v_exit > 0) ? v_entry - v_exit : std::max(-v_exit, v_entry));
@@ -97,7 +100,11 @@ class Planner {
       b.exit = std::min(b.exit, std::sqrt(b.entry * b.entry + 2 * b.accel * b.length));
       if (i + 1 < n) blocks_[i + 1].entry = std::min(blocks_[i + 1].entry, b.exit);
     }
-    for (const Block& b : blocks_) add_time(b.layer, trapezoid_time(b));
+    for (const Block& b : blocks_) {
+      const double t = trapezoid_time(b);
+      add_time(b.layer, t);
+      if (commands_) (*commands_)[b.command].seconds += t;
+    }
     blocks_.clear();
     junction_.clear();
   }
@@ -111,15 +118,29 @@ class Planner {
  private:
   MachineLimits& limits_;
   GcodeEstimate& out_;
+  std::vector<CommandTiming>* commands_;
   std::vector<Block> blocks_;
   std::vector<double> junction_;
 };
 
+// The command's text as a host sends it: no comment, no surrounding blanks.
+CommandTiming command_text(std::string_view line) {
+  line = line.substr(0, line.find(';'));
+  while (!line.empty() && (line.back() == ' ' || line.back() == '\t' || line.back() == '\r'))
+    line.remove_suffix(1);
+  while (!line.empty() && (line.front() == ' ' || line.front() == '\t')) line.remove_prefix(1);
+  CommandTiming c;
+  c.bytes = static_cast<std::uint32_t>(line.size());
+  for (char ch : line) c.xor_sum ^= static_cast<std::uint8_t>(ch);
+  return c;
+}
+
 }  // namespace
 
-GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, MachineLimits limits) {
+GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, MachineLimits limits,
+                             std::vector<CommandTiming>* commands) {
   GcodeEstimate out;
-  Planner planner(limits, out);
+  Planner planner(limits, out, commands);
   TextCursor cur(text, source);
   double pos[4] = {0, 0, 0, 0};
   double feed = 1500.0 / 60;  // mm/s
@@ -146,6 +167,7 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
       }
       continue;
     }
+    if (commands) commands->push_back(command_text(line));
     const double unit = inches ? 25.4 : 1.0;
     if (g.letter == 'G' && (g.number == 0 || g.number == 1 || g.number == 2 || g.number == 3)) {
       if (g.has('F')) feed = g.get('F') * unit / 60;
@@ -158,14 +180,23 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
       double d[4];
       for (int k = 0; k < 4; ++k) d[k] = target[k] - pos[k];
       double length = std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-      if ((g.number == 2 || g.number == 3) && (g.has('I') || g.has('J'))) {
-        // Arc in XY about (x + I, y + J): its length, not its chord.
+      double start_tangent[2] = {0, 0}, end_tangent[2] = {0, 0}, arc_xy = 0;
+      const bool arc = (g.number == 2 || g.number == 3) && (g.has('I') || g.has('J'));
+      if (arc) {
+        // Arc in XY about (x + I, y + J): its length, not its chord; a full turn when it ends
+        // where it starts (as Marlin reads it).
         const double cx = pos[0] + g.get('I') * unit, cy = pos[1] + g.get('J') * unit;
         const double r = std::hypot(pos[0] - cx, pos[1] - cy);
         double a0 = std::atan2(pos[1] - cy, pos[0] - cx), a1 = std::atan2(target[1] - cy, target[0] - cx);
         double sweep = g.number == 3 ? a1 - a0 : a0 - a1;
         while (sweep <= 1e-12) sweep += 2 * M_PI;
-        length = std::hypot(r * sweep, d[2]);
+        arc_xy = r * sweep;
+        length = std::hypot(arc_xy, d[2]);
+        const double turn = g.number == 3 ? 1 : -1;  // tangent: the radius turned a quarter that way
+        if (r > 0) {
+          start_tangent[0] = -turn * (pos[1] - cy) / r, start_tangent[1] = turn * (pos[0] - cx) / r;
+          end_tangent[0] = -turn * (target[1] - cy) / r, end_tangent[1] = turn * (target[0] - cx) / r;
+        }
       }
       out.filament_mm += d[3];  // a retraction subtracts what its unretraction adds back
       const double span = length > 0 ? length : std::fabs(d[3]);
@@ -173,7 +204,11 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
       if (!(span > 1e-9)) continue;
       Block b{};
       b.length = span;
-      for (int k = 0; k < 4; ++k) b.u[k] = d[k] / span;
+      for (int k = 0; k < 4; ++k) b.u[k] = b.out[k] = d[k] / span;
+      if (arc)
+        for (int k = 0; k < 2; ++k)
+          b.u[k] = start_tangent[k] * arc_xy / span, b.out[k] = end_tangent[k] * arc_xy / span;
+      b.command = commands ? commands->size() - 1 : 0;
       b.speed = feed;
       const bool extruding = d[3] > 0 && length > 0;
       b.accel = length == 0 ? limits.retract_acceleration
@@ -189,7 +224,9 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
       ++out.moves;
     } else if (g.letter == 'G' && g.number == 4) {
       planner.flush();
-      planner.add_time(layer, g.has('S') ? g.get('S') : g.get('P') / 1000);
+      const double dwell = g.has('S') ? g.get('S') : g.get('P') / 1000;
+      planner.add_time(layer, dwell);
+      if (commands) commands->back().seconds += dwell;
     } else if (g.letter == 'G' && g.number == 20) {
       inches = true;
     } else if (g.letter == 'G' && g.number == 21) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,8 +30,18 @@ struct GcodeEstimate {
   std::vector<double> layer_seconds;
 };
 
+// One command of a file (a line with a G, M or T word), as the planner times it and a host sends it.
+struct CommandTiming {
+  double seconds = 0;        // how long it keeps the machine busy: a move's planned time, a dwell
+  std::uint32_t bytes = 0;   // its text without comment and surrounding blanks
+  std::uint8_t xor_sum = 0;  // XOR of those bytes (Marlin's checksum covers them)
+};
+
 // Throws InputError "SOURCE:LINE: …" for a malformed word (such as "X1.2.3"). Unknown commands
 // are skipped, as firmware does. Limits set in the file (M201/M203/M204/M205) override `limits`.
-GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, MachineLimits limits = {});
+// Arcs (G2/G3 with I J) take their length along the arc and meet their neighbours along their
+// tangents. With `commands`, each command's timing is appended to it, in file order.
+GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, MachineLimits limits = {},
+                             std::vector<CommandTiming>* commands = nullptr);
 
 }  // namespace salient::core

@@ -40,7 +40,8 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   run.check();
   const std::string name = std::filesystem::path(o.mesh.model).filename().string();
   run.report("saliency", 0);
-  s->saliency = compute_saliency(s->model.loaded.mesh, method, name, run);
+  s->saliency = o.saliency_cache ? o.saliency_cache->get(s->model.loaded.mesh, method, name, run)
+                                 : compute_saliency(s->model.loaded.mesh, method, name, run);
   run.check();
   s->profile = std::make_unique<ZProfile>(ZProfile::build(s->model.loaded.mesh, s->saliency, params, run));
   s->objective = std::make_unique<Objective>(*s->profile, metric, false);

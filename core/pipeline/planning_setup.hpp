@@ -10,6 +10,7 @@
 #include "core/common/progress.hpp"
 #include "core/pipeline/placed_model.hpp"
 #include "core/saliency/saliency.hpp"
+#include "core/saliency/saliency_cache.hpp"
 #include "core/slicing/objective.hpp"
 #include "core/slicing/planner.hpp"
 
@@ -24,7 +25,7 @@ struct PlanOptions {
   Metric metric = Metric::area;
   PlanGoal objective = PlanGoal::time;  // what `exact` minimises within ε
   PlannerKind planner = PlannerKind::exact;
-  SaliencyMethod saliency = SaliencyMethod::uniform;
+  SaliencyMethod saliency = SaliencyMethod::spectral;
   std::string saliency_file;  // per-vertex values (implies painted)
   std::uint64_t seed = 1;
   bool segment = false;    // SegOpt (paper §5): cut by a vertical plane where that saves time
@@ -35,6 +36,7 @@ struct PlanOptions {
   // user would print at otherwise (the results' second baseline), and what a layer's time is.
   double first_layer = 0.2, default_layer = 0.2;
   TimeModelParams time_model;
+  SaliencyCache* saliency_cache = nullptr;  // not a setting: where a caller keeps saliency for reuse
 };
 
 // Everything a planner needs, built once. Members refer to each other: not copyable.

@@ -44,6 +44,8 @@ TimeModelParams time_model_params(const PrinterProfile& printer, const ToolpathS
 
 SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
   check_slice_settings(s, printer);  // before the orientations are sliced
+  s.toolpaths.solid_infill_below_area = printer.solid_infill_below_area;
+  s.toolpaths.resolution = printer.gcode_resolution;
   std::optional<OrientationReport> orientation;
   if (s.plan.mesh.up == "auto") {
     orientation = choose_orientation(s, printer, run);
@@ -121,6 +123,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.gcode = std::move(g.text);
   out.print_seconds = g.seconds;
   out.filament_mm = g.filament_mm;
+  out.stream = g.stream;
   for (const auto& l : toolpaths) out.open_contours += l.open_chains;
   if (s.artefacts) {
     const Mesh& mesh = setup->model.loaded.mesh;

@@ -12,6 +12,7 @@
 #include "core/common/progress.hpp"
 #include "core/export/plan_document.hpp"
 #include "core/gcode/gcode_writer.hpp"
+#include "core/gcode/stream_demand.hpp"
 #include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 #include "core/printer/printer_profile.hpp"
@@ -37,6 +38,7 @@ struct SliceResult {
   int layers = 0, finest_layers = 0;
   double error = 0, rsmd = 0;
   double print_seconds = 0, filament_mm = 0;
+  StreamDemand stream;            // the G-code's busiest second against the printer's serial link
   std::size_t open_contours = 0;  // left out: holes in the mesh wider than toolpaths.max_gap
   std::size_t dropped_faces = 0;  // left out of the layer profile: zero or non-finite area
   std::string model_name;

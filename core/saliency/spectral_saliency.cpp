@@ -1,8 +1,8 @@
 // spectral saliency, as ALGORITHMS.md §1 pins it down:
 //  1. simplify to a working mesh M′ of ~1,000 vertices (quadric edge collapse);
 //  2. W(i,j) = 1/‖vi − vj‖² on edges, L = D − W;
-//  3. all eigenpairs of L, ascending (Eigen's dense symmetric solver: the irregularity needs the
-//     whole spectrum, so a partial solver such as Spectra does not apply); λ0 := λ1;
+//  3. all eigenpairs of L, ascending (LAPACK's divide-and-conquer dsyevd: the irregularity needs
+//     the whole spectrum, so a partial solver such as Spectra does not apply); λ0 := λ1;
 //  4. ℒ(f) = log|λf|, R(f) = |ℒ(f) − (J9 ∗ ℒ)(f)| (centred width-9 mean, replicate padding);
 //  5. S(i,j) = Σf B(i,f)·e^R(f)·B(j,f) on edges only, si = Σj∈N(i) |S(i,j)·W(i,j)|;
 //  6. five scales tj = j·ε², ε = 0.002·diagonal: s′(i,t) = |s_M(k·t)(i) − s_M(t)(i)| where M(t)
@@ -20,16 +20,22 @@
 // min–max scaling (per scale, and of the result) clips at the 99th percentile first.
 #include "core/saliency/spectral_saliency.hpp"
 
+#include <lapacke.h>
 #include <tbb/parallel_for.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <stdexcept>
 
 #include "core/geometry/point_grid.hpp"
 #include "core/mesh/vertex_adjacency.hpp"
 #include "core/saliency/mesh_simplifier.hpp"
 #include "core/saliency/surface_locator.hpp"
+
+// OpenBLAS's thread count (declared in its cblas.h, which we need nothing else from).
+extern "C" void openblas_set_num_threads(int threads);
 
 namespace salient::core {
 namespace {
@@ -50,6 +56,11 @@ std::vector<Vec3> smoothed(const Mesh& mesh, const PointGrid& grid, double t, co
     out[i] = wsum > 0 ? sum / wsum : mesh.positions[i];
   }
   return out;
+}
+
+bool same_positions(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(),
+                    [](const Vec3& p, const Vec3& q) { return p.x == q.x && p.y == q.y && p.z == q.z; });
 }
 
 Mesh canonical_copy(const Mesh& mesh) {
@@ -116,6 +127,7 @@ std::vector<double> normalised(std::vector<double> v) {
 
 std::vector<double> spectral_irregularity(const Mesh& mesh) {
   const std::size_t n = mesh.vertex_count();
+  if (n == 0) return {};
   const VertexAdjacency adj(mesh);
   const double diag = bounding_box(mesh).diagonal();
   const double min_d2 = 1e-24 * diag * diag;
@@ -123,30 +135,63 @@ std::vector<double> spectral_irregularity(const Mesh& mesh) {
     const Vec3 d = mesh.positions[i] - mesh.positions[j];
     return 1.0 / std::max(dot(d, d), min_d2);
   };
-  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(n, n);
+  std::vector<double> B(n * n, 0.0);  // L, column-major; dsyevd overwrites it with the eigenvectors
   for (std::size_t i = 0; i < n; ++i)
     for (std::uint32_t j : adj.neighbours(i)) {
       const double w = weight(i, j);
-      L(i, j) = -w;
-      L(i, i) += w;
+      B[i + j * n] = -w;
+      B[i + i * n] += w;
     }
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(L);
-  Eigen::VectorXd lambda = eig.eigenvalues();
-  const Eigen::MatrixXd& B = eig.eigenvectors();
-  if (n > 1) lambda(0) = lambda(1);
+  std::vector<double> lambda(n);
+  const auto ln = static_cast<lapack_int>(n);
+  if (LAPACKE_dsyevd(LAPACK_COL_MAJOR, 'V', 'U', ln, B.data(), ln, lambda.data()) != 0)
+    throw std::runtime_error("spectral saliency: the eigensolver did not converge");
+  // Eigenvalues closer than tol (rounding: a few ε·‖L‖) are one repeated eigenvalue, as a symmetric
+  // mesh has; those within tol of 0 are the null space, one per connected part. (Pairs just above
+  // tol are still ill-determined, their vectors turned by ~ε·‖L‖ / gap: measured on a UV sphere,
+  // 6e-4 of the maximum; on the shared scans no pair comes that close.)
+  const double tol = 64 * std::numeric_limits<double>::epsilon() *
+                     std::max(std::fabs(lambda.front()), std::fabs(lambda.back()));
+  // λ0 := λ1 (paper), for every null eigenvalue: their logs would be of rounding noise.
+  std::size_t nulls = 0;
+  while (nulls < n && std::fabs(lambda[nulls]) <= tol) ++nulls;
+  nulls = std::max<std::size_t>(nulls, 1);
   std::vector<double> log_spectrum(n);
-  for (std::size_t f = 0; f < n; ++f) log_spectrum[f] = std::log(std::max(std::fabs(lambda(f)), 1e-300));
-  Eigen::VectorXd weights(n);
+  for (std::size_t f = 0; f < n; ++f)
+    log_spectrum[f] = std::log(std::max(std::fabs(lambda[f < nulls ? std::min(nulls, n - 1) : f]), 1e-300));
+  std::vector<double> weights(n);
   for (std::size_t f = 0; f < n; ++f) {
     double mean = 0;
     for (int d = -4; d <= 4; ++d)
       mean += log_spectrum[std::clamp<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(f) + d, 0, n - 1)];
-    weights(f) = std::exp(std::fabs(log_spectrum[f] - mean / 9));
+    weights[f] = std::exp(std::fabs(log_spectrum[f] - mean / 9));
   }
-  const Eigen::MatrixXd BR = B * weights.asDiagonal();
+  // Eigenvectors of a repeated eigenvalue are any basis of its eigenspace, and e^R differs along a
+  // cluster (the moving average does), so S would depend on the solver's choice of basis. One
+  // weight per cluster (their mean) makes S = Σ w_c·P_c, P_c the cluster's projector: basis-free.
+  for (std::size_t a = 0, b; a < n; a = b) {
+    for (b = a + 1; b < n && (b < nulls || lambda[b] - lambda[b - 1] <= tol);) ++b;
+    if (b - a < 2) continue;
+    double mean = 0;
+    for (std::size_t f = a; f < b; ++f) mean += weights[f];
+    std::fill(weights.begin() + a, weights.begin() + b, mean / (b - a));
+  }
+  // Rows of B, weighted and plain, contiguous for the edge products S(i,j) (step 5).
+  std::vector<double> rows(n * n), weighted(n * n);
+  for (std::size_t f = 0; f < n; ++f)
+    for (std::size_t i = 0; i < n; ++i) {
+      rows[i * n + f] = B[i + f * n];
+      weighted[i * n + f] = B[i + f * n] * weights[f];
+    }
   std::vector<double> s(n, 0);
   for (std::size_t i = 0; i < n; ++i)
-    for (std::uint32_t j : adj.neighbours(i)) s[i] += std::fabs(BR.row(i).dot(B.row(j)) * weight(i, j));
+    for (std::uint32_t j : adj.neighbours(i)) {
+      const double* bi = &weighted[i * n];
+      const double* bj = &rows[std::size_t(j) * n];
+      double sij = 0;
+      for (std::size_t f = 0; f < n; ++f) sij += bi[f] * bj[f];
+      s[i] += std::fabs(sij * weight(i, j));
+    }
   return s;
 }
 
@@ -163,16 +208,31 @@ std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& o
   const std::vector<double> ones(work.vertex_count(), 1.0);
   const double eps = 0.002 * bounding_box(work).diagonal();
   const PointGrid grid(work.positions, 2.5 * std::sqrt(5 * 2.5) * eps);
-  // Ten meshes, M(t) and M(k·t) at five scales; their spectra are independent: in parallel.
+  // Ten meshes, M(t) and M(k·t) at five scales; their spectra are independent: in parallel, one
+  // decomposition per TBB thread. OpenBLAS's own threads inside would oversubscribe the cores and
+  // spin (measured: slower than either alone), so they are turned off; this file is the process's
+  // only user of BLAS.
+  std::vector<Mesh> meshes(10);
+  for (int job = 0; job < 10; ++job) {
+    meshes[job].triangles = work.triangles;
+    meshes[job].positions = smoothed(work, grid, (job / 2 + 1) * eps * eps, job % 2 == 0 ? ones : k);
+  }
+  // Where the smoothing radius is below every edge, a scale leaves the mesh as it was: equal
+  // meshes have equal spectra, so each distinct one is decomposed once.
+  std::vector<int> same(10), distinct;
+  for (int job = 0; job < 10; ++job) {
+    same[job] = job;
+    for (int earlier : distinct)
+      if (same_positions(meshes[earlier].positions, meshes[job].positions)) same[job] = earlier;
+    if (same[job] == job) distinct.push_back(job);
+  }
   std::vector<std::vector<double>> s(10);
-  tbb::parallel_for(0, 10, [&](int job) {
+  openblas_set_num_threads(1);
+  tbb::parallel_for(std::size_t(0), distinct.size(), [&](std::size_t d) {
     run.check();
-    const double t = (job / 2 + 1) * eps * eps;
-    Mesh m;
-    m.triangles = work.triangles;
-    m.positions = smoothed(work, grid, t, job % 2 == 0 ? ones : k);
-    s[job] = spectral_irregularity(m);
+    s[distinct[d]] = spectral_irregularity(meshes[distinct[d]]);
   });
+  for (int job = 0; job < 10; ++job) s[job] = s[same[job]];
   run.check();
   run.report("saliency", 0.8);
   std::vector<double> multi(work.vertex_count(), 0);

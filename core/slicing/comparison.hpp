@@ -36,4 +36,11 @@ struct Comparison {
 // ignored.
 Comparison compare_planners(const PlanRequest& base, double rho, std::span<const std::string_view> planners);
 
+// The same table around a plan made elsewhere (`given`, on the profile's grid) instead of `exact`
+// at ρ: its row first, named `label`, then every planner at its layer count and at its loss.
+// Where its count is outside what α..ᾱ allow, the planners run at the nearest count they can.
+// reference_layers and reference_rsmd are the given plan's; rho and epsilon stay 0.
+Comparison compare_with_plan(const PlanRequest& base, const LayerPlan& given, const std::string& label,
+                             std::span<const std::string_view> planners);
+
 }  // namespace salient::core

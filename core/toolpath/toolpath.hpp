@@ -39,10 +39,17 @@ struct ToolpathSettings {
   double infill_density = 0.2;    // 0..1, rectilinear
   double skirt_distance = 3;      // mm from the first layer's outline; 0 for no skirt
   double max_gap = 3.0;           // mm: open section chains closed up to this gap
+  // Sections are simplified within this deviation (mm; the printer's gcode_resolution) before the
+  // walls are inset, so walls, skins and infill outlines follow it; 0 keeps every mesh vertex.
+  double resolution = 0.0125;
   // Sparse infill is printed once for as many thin layers as fit under this height (mm), where
   // all of them have sparse infill (Sabourin 1996's fast interior, the paper's solid option);
   // 0 prints it on every layer.
   double combine_infill_up_to = 0;
+  // An island of sparse infill no larger than this (mm²) is filled solid instead, as PrusaSlicer's
+  // solid_infill_below_area (a printer-profile value): a sparse grid in a small section holds
+  // nothing up and prints as loose strands. 0 keeps every island sparse.
+  double solid_infill_below_area = 0;
   // A region of a segmented plan: only this XY area of the mesh is printed (empty: all of it).
   Polygons clip;
 };

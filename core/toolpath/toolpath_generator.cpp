@@ -13,6 +13,7 @@
 #include <cmath>
 
 #include "core/geometry/mesh_section.hpp"
+#include "core/geometry/polygon_simplify.hpp"
 #include "core/toolpath/infill_pattern.hpp"
 
 namespace salient::core {
@@ -35,6 +36,24 @@ Polygons covered_by(const std::vector<Polygons>& regions, std::size_t first, std
   for (std::size_t j = first + 1; j <= last && !covered.empty(); ++j)
     covered = intersection_of(covered, regions[j]);
   return covered;
+}
+
+// PrusaSlicer's solid_infill_below_area (LayerRegion::prepare_fill_surfaces): each island of
+// sparse infill, holes taken off, of at most that area becomes solid.
+void fill_small_islands(const ToolpathSettings& s, Polygons& solid, Polygons& sparse) {
+  if (!(s.solid_infill_below_area > 0) || !(s.infill_density > 0) || s.infill_density >= 1 || sparse.empty())
+    return;
+  std::vector<ExPolygon> small, kept;
+  for (ExPolygon& island : union_ex(sparse)) {
+    double area = std::abs(signed_area(island.contour));
+    for (const Polygon& hole : island.holes) area -= std::abs(signed_area(hole));
+    (area <= s.solid_infill_below_area ? small : kept).push_back(std::move(island));
+  }
+  if (small.empty()) return;
+  const Polygons filled = to_polygons(small);
+  solid.insert(solid.end(), filled.begin(), filled.end());
+  solid = union_of(solid);
+  sparse = to_polygons(kept);
 }
 
 void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std::vector<double>& z,
@@ -76,6 +95,7 @@ void build_layer(std::size_t i, const std::vector<Polygons>& regions, const std:
     solid = union_of(solid);
   }
   layer.sparse = difference_of(inner, solid);
+  fill_small_islands(s, solid, layer.sparse);
   layer.solid_area = covered_area(solid);
   layer.sparse_area = covered_area(layer.sparse);
   const double angle = (i % 2 == 0 ? 45.0 : 135.0) * M_PI / 180;
@@ -141,8 +161,10 @@ std::vector<LayerToolpaths> build_layers(const Mesh& mesh, const std::vector<dou
   std::vector<Polygons> regions(n);  // the layer's solid area
   std::vector<LayerToolpaths> out(n);
   for (std::size_t i = 0; i < n; ++i) {
-    regions[i] =
-        s.clip.empty() ? union_of(sections[i].loops) : intersection_of(union_of(sections[i].loops), s.clip);
+    // Simplified before the walls are inset (not each wall after): one pass serves walls, skins
+    // and infill outlines, and the offsets of a ring within `resolution` stay within it.
+    const Polygons loops = simplify_polygons(sections[i].loops, s.resolution);
+    regions[i] = s.clip.empty() ? union_of(loops) : intersection_of(union_of(loops), s.clip);
     out[i].region = regions[i];
     out[i].z_bottom = z[i];
     out[i].z_top = z[i + 1];

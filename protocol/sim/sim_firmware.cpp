@@ -237,6 +237,7 @@ bool SimFirmware::move(const Command& c, Micros now) {
   if (planner_.size() >= config_.planner_blocks) return false;  // wait for a free block
   static constexpr char axes[4] = {'X', 'Y', 'Z', 'E'};
   double delta[4] = {0, 0, 0, 0};
+  const double from_x = pos_[0], from_y = pos_[1];
   for (int i = 0; i < 4; ++i) {
     const auto v = param(c.text, axes[i]);
     if (!v) continue;
@@ -247,6 +248,18 @@ bool SimFirmware::move(const Command& c, Micros now) {
   }
   if (auto f = param(c.text, 'F'); f && *f > 0) feed_mm_s_ = *f / 60;
   double d = std::sqrt(delta[0] * delta[0] + delta[1] * delta[1] + delta[2] * delta[2]);
+  const std::string_view code = first_word(c.text);
+  const auto i_word = param(c.text, 'I'), j_word = param(c.text, 'J');
+  if ((code == "G2" || code == "G3") && (i_word || j_word)) {
+    // ARC_SUPPORT: about (x + I, y + J), counter-clockwise for G3; a full turn when it ends where
+    // it starts. It takes the time of its length along the arc.
+    const double cx = from_x + i_word.value_or(0), cy = from_y + j_word.value_or(0);
+    const double r = std::hypot(from_x - cx, from_y - cy);
+    const double a0 = std::atan2(from_y - cy, from_x - cx), a1 = std::atan2(pos_[1] - cy, pos_[0] - cx);
+    double sweep = code == "G3" ? a1 - a0 : a0 - a1;
+    while (sweep <= 1e-12) sweep += 2 * M_PI;
+    d = std::hypot(r * sweep, delta[2]);
+  }
   if (d == 0) d = std::abs(delta[3]);
   if (config_.time_scale <= 0 || d == 0) return true;
   const Micros start = std::max(now, planner_free_at_);

@@ -6,10 +6,10 @@
 namespace salient::server {
 
 void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
-                       const EventHub& hub) {
+                       const EventHub& hub, const core::SaliencyCache& saliency) {
   router.add(
       "GET", "/metrics", Access::key,
-      [&metrics, &store, &printers, &hub](const HttpRequest&, const PathParams&) {
+      [&metrics, &store, &printers, &hub, &saliency](const HttpRequest&, const PathParams&) {
         std::string out = metrics.render();
         JobStore jobs(store.db());
         out += "# HELP salient_jobs Jobs in the database, by state.\n# TYPE salient_jobs gauge\n";
@@ -50,6 +50,14 @@ void add_metrics_route(Router& router, const Metrics& metrics, Store& store, Pri
             "# HELP salient_event_subscribers WebSocket clients connected to /api/v1/events.\n# TYPE "
             "salient_event_subscribers gauge\n";
         out += "salient_event_subscribers " + std::to_string(hub.subscribers()) + "\n";
+        out +=
+            "# HELP salient_saliency_cache_hits_total Jobs whose saliency an earlier job had computed.\n"
+            "# TYPE salient_saliency_cache_hits_total counter\nsalient_saliency_cache_hits_total " +
+            std::to_string(saliency.hits()) + "\n";
+        out +=
+            "# HELP salient_saliency_cache_misses_total Saliency computed by jobs (uniform is not counted).\n"
+            "# TYPE salient_saliency_cache_misses_total counter\nsalient_saliency_cache_misses_total " +
+            std::to_string(saliency.misses()) + "\n";
         return HttpResponse::text(200, std::move(out), "text/plain; version=0.0.4; charset=utf-8");
       });
 }

@@ -25,7 +25,7 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
 void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config);
 // /metrics (Prometheus text).
 void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
-                       const EventHub& hub);
+                       const EventHub& hub, const core::SaliencyCache& saliency);
 
 // The WebSocket /api/v1/events (keyed; ?topics=a,b subscribes at once), and 426 for a plain GET.
 void add_event_route(Router& router);

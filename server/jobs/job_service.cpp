@@ -91,7 +91,10 @@ std::string sanitize_filename(const std::string& name) {
 }
 
 JobService::JobService(Store& store, JobServiceOptions options, std::function<void(const Job&)> on_change)
-    : store_(store), options_(options), on_change_(std::move(on_change)) {}
+    : store_(store),
+      options_(options),
+      on_change_(std::move(on_change)),
+      saliency_cache_(options.saliency_cache) {}
 
 JobService::~JobService() {
   stop();
@@ -131,11 +134,19 @@ JobService::Submitted JobService::submit(const std::string& filename, const std:
   const std::string name = sanitize_filename(filename);
   if (!core::detect_format(bytes, name))
     throw Unsupported("unsupported_format", name + ": not an STL, OBJ, PLY or OFF model");
+  core::LoadedMesh loaded;
   try {
-    core::load_mesh(bytes, name);  // read and repaired: no usable triangle is 422 now, not a failed job later
+    loaded = core::load_mesh(
+        bytes, name);  // read and repaired: no usable triangle is 422 now, not a failed job later
   } catch (const core::InputError& e) {
     throw Unprocessable("unreadable_mesh", e.what());
   }
+  if (settings.slice.plan.saliency == core::SaliencyMethod::painted && !loaded.mesh.has_quality() &&
+      !loaded.mesh.has_colors())
+    throw Unprocessable("no_painted_saliency",
+                        name +
+                            ": 'saliency' painted needs vertex quality or vertex colours (a PLY's quality or "
+                            "red property, an OBJ's v x y z r g b), and the model has neither");
   std::lock_guard files_lock(store_.files_mutex());  // the file and its row land together
   const std::string digest = store_.files().put(bytes);
   const std::string settings_digest = sha256_hex(settings.canonical);
@@ -226,6 +237,7 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     fs::create_symlink(fs::absolute(store_.files().path_of(job.model_digest)), model);
     settings.slice.plan.mesh.model = model.string();
     settings.slice.artefacts = true;
+    settings.slice.plan.saliency_cache = &saliency_cache_;
     const core::SliceResult r = core::slice_model(settings.slice, printer, run);
     const std::string gcode = store_.files().put(r.gcode);
     const std::string plan_digest = store_.files().put(core::plan_json(r.plan));  // as `salient plan -o`
@@ -235,6 +247,11 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
                        {"saving", r.finest_layers > 0 ? 1.0 - double(r.layers) / r.finest_layers : 0.0},
                        {"print_seconds", r.print_seconds},
                        {"filament_mm", r.filament_mm},
+                       {"stream",
+                        {{"peak_commands_per_second", r.stream.peak_commands_per_second},
+                         {"link_commands_per_second", r.stream.link_commands_per_second},
+                         {"baud", r.stream.baud},
+                         {"starves", r.stream.starves()}}},
                        {"error", r.error},
                        {"rsmd", r.rsmd},
                        {"open_contours", r.open_contours},

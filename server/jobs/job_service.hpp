@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/common/progress.hpp"
+#include "core/saliency/saliency_cache.hpp"
 #include "server/jobs/job.hpp"
 #include "server/store/store.hpp"
 
@@ -27,7 +28,8 @@ struct JobServiceOptions {
   int workers = 1;
   int queue_limit = 32;
   std::size_t max_json_depth = 32;
-  int nice = 10;  // workers' scheduling priority (Linux nice, per thread); 0 leaves it
+  int nice = 10;                   // workers' scheduling priority (Linux nice, per thread); 0 leaves it
+  std::size_t saliency_cache = 4;  // models whose saliency the workers keep in memory (0: none)
 };
 
 class JobService {
@@ -50,6 +52,9 @@ class JobService {
   Submitted submit(const std::string& filename, const std::string& bytes, const std::string& settings_json);
   // Queued: cancelled at once; running: asked to stop. False when it had already finished.
   bool cancel(const std::string& id);
+  // Saliency kept between jobs: a job on a model (placed the same way) that an earlier job has
+  // computed the saliency of reuses it, whatever its other settings. Its counters are /metrics'.
+  const core::SaliencyCache& saliency_cache() const { return saliency_cache_; }
 
  private:
   void work();
@@ -65,6 +70,7 @@ class JobService {
   std::map<std::string, std::shared_ptr<core::CancelToken>> running_;
   std::vector<std::thread> workers_;
   std::size_t exited_ = 0;  // workers that have left their loop, under mutex_
+  core::SaliencyCache saliency_cache_;
 };
 
 // File names from clients become "bunny.obj"-like names: letters, digits, '.', '-', '_' only.

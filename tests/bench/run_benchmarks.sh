@@ -21,11 +21,13 @@ for method in spectral lee05; do
     /usr/bin/time -f "   peak %M KB" "$build/tests/bench/saliency_bench" "$method" "$models/$m" 2>&1
   done
 done
+echo "== spectral saliency end to end: salient saliency at 80 mm, wall seconds (median of 3)"
+bash tests/bench/saliency_bench.sh "$build"
 echo "== eigen-decomposition of the working mesh's Laplacian: Eigen dense (all pairs) vs Spectra (part)"
 "$build/tests/bench/eigen_bench" "$models"/stanford-bunny.obj 500 1000 2000
-echo "== compare with spectral saliency (seconds exclude the saliency itself)"
+echo "== compare with spectral saliency (seconds exclude the saliency itself; --peers: Cura's adaptive layers as a row)"
 for m in stanford-bunny.obj:y spot.obj:y fandisk.obj:y; do
-  "$build/clients/salient" compare "$models/${m%%:*}" --up "${m##*:}" --height 80 --saliency spectral
+  "$build/clients/salient" compare "$models/${m%%:*}" --up "${m##*:}" --height 80 --saliency spectral --peers
 done
 echo "== Step 11: the layer time model against our estimator on real G-code (calibration)"
 "$build/tests/bench/time_model_bench" "$models"/stanford-bunny.obj:y "$models"/spot.obj:y "$models"/fandisk.obj:y \
@@ -42,6 +44,10 @@ echo "== printer link: lines per second to salient-sim, ours vs printcore; share
 bash tests/bench/link_bench.sh "$build"
 echo "== s3g: actions per second to the simulated Sailfish board, ours vs gpx -s; share of a 115,200 baud wire"
 bash tests/bench/s3g_bench.sh "$build"
+if command -v prusa-slicer >/dev/null; then
+  echo "== G-code density: lines and the busiest second, ours (arcs off and on) vs PrusaSlicer"
+  bash tests/bench/gcode_density_bench.sh "$build"
+fi
 if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
   echo "== peer: model info, salient vs PrusaSlicer (whole process, hyperfine)"
   for m in stanford-bunny.obj fandisk.obj Spider_binary.stl; do
@@ -62,6 +68,8 @@ if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
   echo "== peer: our estimate of PrusaSlicer's own G-code against its estimate"
   grep "estimated printing time (normal mode)" /tmp/salient_bench_prusa.gcode
   "$build/clients/salient" estimate /tmp/salient_bench_prusa.gcode
+  echo "== peer: filament at 20 % infill, ours against PrusaSlicer at the same walls and skins"
+  bash tests/bench/filament_bench.sh "$build"
 else
   echo "== peer comparison skipped: install with deploy/install-deps.sh --peers"
 fi

@@ -93,3 +93,31 @@ TEST_CASE("a malformed word is an error with its line") {
   CHECK_THROWS_WITH_AS(estimate_gcode("G28\nG1 X1.2.3 F100\n", "bad.gcode"),
                        "bad.gcode:2: malformed number in 'G1 X1.2.3 F100'", InputError);
 }
+
+TEST_CASE("arcs meet their neighbours along their tangents: a circle of four arcs flows like one move") {
+  // Four quarter circles of r 20 (G3 from (20,0) round (0,0)): tangent at every junction, so no
+  // corner slows them; from rest (the jerk speed along the start tangent, Y) and back to rest.
+  const std::string quarters =
+      "G92 X20 Y0\nG3 X0 Y20 I-20 J0 F6000\nG3 X-20 Y0 I0 J-20\nG3 X0 Y-20 I20 J0\nG3 X20 Y0 I0 J20\n";
+  const auto arcs = estimate_gcode(quarters, "t", limits(1000, 10));
+  CHECK(arcs.seconds == doctest::Approx(trapezoid(2 * M_PI * 20, 100, 1000, 10)).epsilon(1e-6));
+  // Their chords, though shorter, take longer: they turn 90° at each junction and slow there.
+  const auto square = estimate_gcode("G92 X20 Y0\nG1 X0 Y20 F6000\nG1 X-20 Y0\nG1 X0 Y-20\nG1 X20 Y0\n", "t",
+                                     limits(1000, 10));
+  CHECK(square.seconds > arcs.seconds);
+}
+
+TEST_CASE("per-command timings: one per command, in order, summing to the total") {
+  std::vector<CommandTiming> commands;
+  const auto est = estimate_gcode("; comment\nG28 ; home\nG1 X100 F6000\n\nG4 P500\n  M104 S200  \nG1 X0\n",
+                                  "t", limits(1000, 10), &commands);
+  REQUIRE(commands.size() == 5);
+  double sum = 0;
+  for (const CommandTiming& c : commands) sum += c.seconds;
+  CHECK(sum == doctest::Approx(est.seconds).epsilon(1e-9));
+  CHECK(commands[0].bytes == 3);  // "G28": comment and blanks are not sent
+  CHECK(commands[2].seconds == doctest::Approx(0.5));
+  CHECK(commands[3].bytes == 9);  // "M104 S200"
+  CHECK(commands[3].seconds == 0);
+  CHECK(commands[1].seconds == doctest::Approx(trapezoid(100, 100, 1000, 10)).epsilon(1e-9));
+}

@@ -99,6 +99,7 @@ TEST_CASE("the z-profile is reported and can be cancelled, as the daemon's jobs 
   o.mesh.model = SALIENT_MODELS_DIR "/stanford-bunny.obj";  // 69,451 triangles: reported twice
   o.mesh.up = "y";
   o.mesh.height = 40;
+  o.saliency = salient::core::SaliencyMethod::uniform;  // the profile's reports are the point, not saliency
   salient::core::CancelToken token;
   int profile_reports = 0;
   const salient::core::RunContext run{&token, [&](std::string_view phase, double) {

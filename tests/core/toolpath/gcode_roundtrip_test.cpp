@@ -3,6 +3,7 @@
 // consistent with relative or absolute mode. Runs on a variable-height plan.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -31,6 +32,7 @@ struct Parsed {
   double min_x = 1e9, max_x = -1e9, min_y = 1e9, max_y = -1e9;
   double e_total = 0;
   bool monotonic_absolute_e = true;
+  std::size_t arcs = 0;
 };
 
 Parsed parse(const std::string& text, bool relative) {
@@ -51,7 +53,8 @@ Parsed parse(const std::string& text, bool relative) {
     GcodeError err;
     const GcodeLine g = parse_gcode_line(line, err);
     REQUIRE(err == GcodeError::none);
-    if (!in_body || !(g.is('G', 0) || g.is('G', 1))) continue;
+    if (!in_body || !(g.is('G', 0) || g.is('G', 1) || g.is('G', 2) || g.is('G', 3))) continue;
+    if (g.is('G', 2) || g.is('G', 3)) ++p.arcs;
     if (g.has('Z')) p.layers.back().move_z = g.get('Z');
     if (g.has('X')) p.min_x = std::min(p.min_x, g.get('X')), p.max_x = std::max(p.max_x, g.get('X'));
     if (g.has('Y')) p.min_y = std::min(p.min_y, g.get('Y')), p.max_y = std::max(p.max_y, g.get('Y'));
@@ -327,12 +330,87 @@ TEST_CASE("a speck of a layer is slowed for cooling, but never below the minimum
   CHECK(std::isfinite(g.seconds));
   std::istringstream in(g.text);
   int extrusions = 0;
+  double feed = 0;  // modal: F stands until the next one
   for (std::string line; std::getline(in, line);) {
+    if (const std::size_t f = line.find(" F"); line[0] == 'G' && f != std::string::npos)
+      feed = std::stod(line.substr(f + 2));
     if (line.rfind("G1 X", 0) != 0 || line.find(" E") == std::string::npos) continue;
-    const std::size_t f = line.find(" F");
-    REQUIRE(f != std::string::npos);
-    CHECK(std::stod(line.substr(f + 2)) >= 10.0 * 60 - 1e-9);  // mm/min
+    CHECK(feed >= 10.0 * 60 - 1e-9);  // mm/min
     ++extrusions;
   }
   CHECK(extrusions == 2);
+}
+
+TEST_CASE("arc fitting: G2/G3 for Marlin, fewer lines, the same layers and material, never for Sailfish") {
+  PrinterProfile printer = *builtin_printer("generic-i3");
+  // A cylinder (r 8 mm, 6 mm tall, 256 facets) with a 3 mm hole: its walls are arcs.
+  Mesh tube = salient::test::box(1, 1, 1);
+  tube.positions.clear(), tube.triangles.clear();
+  const int n = 256;
+  for (double r : {8.0, 1.5})
+    for (double z : {0.0, 6.0})
+      for (int k = 0; k < n; ++k)
+        tube.positions.push_back({r * std::cos(2 * M_PI * k / n), r * std::sin(2 * M_PI * k / n), z});
+  const auto v = [&](int ring, int level, int k) {
+    return std::uint32_t(ring * 2 * n + level * n + (k % n));
+  };
+  for (int k = 0; k < n; ++k) {
+    // outer wall (outward), inner wall (inward), top and bottom annuli
+    tube.triangles.push_back({v(0, 0, k), v(0, 0, k + 1), v(0, 1, k + 1)});
+    tube.triangles.push_back({v(0, 0, k), v(0, 1, k + 1), v(0, 1, k)});
+    tube.triangles.push_back({v(1, 0, k), v(1, 1, k + 1), v(1, 0, k + 1)});
+    tube.triangles.push_back({v(1, 0, k), v(1, 1, k), v(1, 1, k + 1)});
+    tube.triangles.push_back({v(0, 1, k), v(0, 1, k + 1), v(1, 1, k + 1)});
+    tube.triangles.push_back({v(0, 1, k), v(1, 1, k + 1), v(1, 1, k)});
+    tube.triangles.push_back({v(0, 0, k), v(1, 0, k + 1), v(0, 0, k + 1)});
+    tube.triangles.push_back({v(0, 0, k), v(1, 0, k), v(1, 0, k + 1)});
+  }
+  PlacementOptions o;
+  o.bed_center_x = printer.bed_center_x(), o.bed_center_y = printer.bed_center_y();
+  place_mesh(tube, o);
+  const std::vector<double> z = variable_plan();
+  const auto layers = generate_toolpaths(tube, z, {});
+  const GcodeResult lines = write_gcode(layers, printer, {});
+  printer.arc_fitting = true;
+  const GcodeResult arcs = write_gcode(layers, printer, {});
+  const auto count_lines = [](const std::string& t) { return std::count(t.begin(), t.end(), '\n'); };
+  CHECK(count_lines(arcs.text) < count_lines(lines.text) * 3 / 4);
+  const Parsed p = parse(arcs.text, true), q = parse(lines.text, true);
+  CHECK(p.arcs > 0);
+  CHECK(q.arcs == 0);
+  REQUIRE(p.layers.size() == layers.size());
+  const double filament_area = M_PI * printer.filament_diameter * printer.filament_diameter / 4;
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    CAPTURE(i);
+    CHECK(p.layers[i].z == doctest::Approx(z[i + 1]).epsilon(1e-6));
+    CHECK(p.layers[i].move_z == doctest::Approx(z[i + 1]).epsilon(1e-6));
+    CHECK(p.layers[i].e == doctest::Approx(q.layers[i].e).epsilon(0.01));  // an arc's E is for its length
+    if (i == 0) continue;
+    const LayerToolpaths& l = layers[i];
+    const double expected = (l.wall_area + l.solid_area + 0.2 * l.sparse_area) * l.height();
+    CHECK(p.layers[i].e * filament_area == doctest::Approx(expected).epsilon(0.10));
+  }
+  // The estimate reads the arcs back: the same motion, give or take the corners they smooth.
+  CHECK(estimate_gcode(arcs.text, "arcs").seconds == doctest::Approx(lines.seconds).epsilon(0.05));
+  CHECK(arcs.filament_mm == doctest::Approx(lines.filament_mm).epsilon(0.01));
+  // GPX has no arcs: the Sailfish flavour writes none, whatever the profile says.
+  PrinterProfile replicator = *builtin_printer("replicator2x");
+  replicator.arc_fitting = true;
+  Mesh centred = tube;
+  place_mesh(centred, {});
+  const std::string sailfish = write_gcode(generate_toolpaths(centred, z, {}), replicator, {}).text;
+  CHECK(sailfish.find("\nG2 ") == std::string::npos);
+  CHECK(sailfish.find("\nG3 ") == std::string::npos);
+}
+
+TEST_CASE("the stream: a written file's busiest second fits a 115,200-baud link, and starves a slow one") {
+  PrinterProfile printer = *builtin_printer("generic-i3");
+  const auto layers = generate_toolpaths(box_on_bed(printer, 20, 20, 2), {0, 0.2, 0.4, 0.6, 0.8, 1.0}, {});
+  const GcodeResult g = write_gcode(layers, printer, {});
+  CHECK(g.stream.baud == 115200);
+  CHECK(g.stream.peak_commands_per_second > 0);
+  CHECK(g.stream.link_commands_per_second > g.stream.peak_commands_per_second);
+  CHECK_FALSE(g.stream.starves());
+  printer.baud = 1200;  // 120 bytes a second: a few lines
+  CHECK(write_gcode(layers, printer, {}).stream.starves());
 }

@@ -151,6 +151,14 @@ TEST_CASE("unknown commands are skipped with their line, and send nothing") {
   CHECK(t.program.actions.size() == 4);  // 132, 131, and the tail
 }
 
+TEST_CASE("arcs (G2/G3) are not s3g: skipped with their line, as gpx skips them") {
+  const auto t = translate({"G28", "G2 X10 Y0 I5 J0 E1", "G3 X0 Y0 I-5 J0 E1"});
+  REQUIRE(t.skipped.size() == 2);
+  CHECK(t.skipped[0].line == 2);
+  CHECK(t.skipped[0].reason == "G2 is not an s3g command (gpx skips it too)");
+  CHECK(t.skipped[1].command.rfind("G3", 0) == 0);
+}
+
 TEST_CASE("M2 ends the program: what follows is reported, not translated") {
   const auto t = translate({"M73 P0", "M2", "G28", "G28"});
   CHECK(t.program.actions.size() == 5);  // 153 150 134, then 150 100 % 154

@@ -83,6 +83,23 @@ TEST_CASE("moves take planner blocks and time, the queue holds BUFSIZE commands,
   CHECK(t == Micros{6600000});                           // moves 5 and 6 entered as blocks 3 and 4 finished
 }
 
+TEST_CASE("an arc takes the time of its length along the arc, not of its chord") {
+  SimConfig c;
+  c.time_scale = 1;
+  c.planner_blocks = 1;  // the next move waits for the arc to finish
+  c.acceleration = 1000;
+  SimFirmware fw(c);
+  // A half circle of r 50 from (0,0) round (50,0) to (100,0): 157.08 mm at 100 mm/s, so
+  // 157.08 / 100 + 100 / 1000 = 1.6708 s (its 100 mm chord would take 1.1 s).
+  CHECK(talk(fw, "G3 X100 Y0 I50 J0 F6000\nG2 X0 Y0 I-50 J0\n", Micros{0}) == "ok\n");
+  CHECK(fw.next_wakeup().count() == doctest::Approx(1670796).epsilon(1e-4));
+  fw.advance(fw.next_wakeup());
+  CHECK(fw.take_output(fw.next_wakeup()) == "ok\n");
+  // Clockwise back round the same circle: as long again.
+  CHECK(talk(fw, "G1 X0 Y0\n", Micros{1670796}).empty());
+  CHECK(fw.next_wakeup().count() == doctest::Approx(2 * 1670796).epsilon(1e-4));
+}
+
 TEST_CASE("M109 waits for the heater, with busy keepalives and temperature reports") {
   SimConfig c;
   c.heat_time_scale = 0.01;  // 3 °C/s: 21 → 210 °C takes 63 printer s, 0.63 wall s

@@ -67,6 +67,13 @@ curl -s -f -H "X-Api-Key: $key" -o plot.svg "$base/api/v1/jobs/$id/plot.svg" && 
 curl -s -f -H "X-Api-Key: $key" -o model.3mf "$base/api/v1/jobs/$id/model.3mf" && [ "$(head -c 2 model.3mf)" = PK ] || fail "model.3mf"
 curl -s -f -H "X-Api-Key: $key" -o saliency.ply "$base/api/v1/jobs/$id/saliency.ply" && [ "$(head -c 3 saliency.ply)" = ply ] \
   || fail "saliency.ply"
+# Another ρ on the same model, placed the same: the saliency (spectral, the default) is not computed again.
+id2=$(curl -s -H "X-Api-Key: $key" -F "file=@$models/stanford-bunny.obj" -F 'settings={"up": "y", "height": 30, "rho": 0.1}' \
+  "$base/api/v1/jobs" | field "['id']")
+wait_state "$id2" done
+curl -s -H "X-Api-Key: $key" -o metrics.txt "$base/metrics"
+grep -q '^salient_saliency_cache_hits_total 1$' metrics.txt && grep -q '^salient_saliency_cache_misses_total 1$' metrics.txt \
+  || fail "saliency cache: $(grep saliency_cache metrics.txt)"
 # The WebSocket client saw the job's phases in order, to done.
 saw_done() { grep -q "\"id\":\"$id\".*\"state\":\"done\"\|\"state\":\"done\".*\"id\":\"$id\"" events.jsonl; }
 eventually 60 saw_done || fail "the events never showed job $id done: $(tail -3 events.jsonl)"

@@ -12,6 +12,8 @@
 #include <thread>
 
 #include "core/export/plan_json.hpp"
+#include "core/mesh/mesh_loader.hpp"
+#include "core/mesh/ply_writer.hpp"
 #include "server/http/router.hpp"
 #include "server/jobs/job_settings.hpp"
 #include "server/store/job_store.hpp"
@@ -285,4 +287,89 @@ TEST_CASE(
   CHECK(plan.model == "spot.obj");
   CHECK(result.at("segmentation").is_object());
   CHECK(result.at("segmentation") == nlohmann::json::parse(text).at("segmentation"));
+}
+
+TEST_CASE("a job's result reports the stream its G-code needs against the printer's link") {
+  const salient::test::ScratchDir dir("jobs-stream");
+  Store store(dir.path);
+  JobService service(store, {});
+  service.start();
+  const auto submitted = service.submit("spot.obj", model_bytes("spot.obj"), R"({"up": "y", "height": 20})");
+  const Job done = wait_finished(store, submitted.job.id);
+  REQUIRE(done.state == JobState::done);
+  const nlohmann::json stream = nlohmann::json::parse(*done.result).at("stream");
+  CHECK(stream.at("baud") == 115200);  // generic-i3's connection.baud
+  CHECK(stream.at("peak_commands_per_second").get<double>() > 0);
+  CHECK(stream.at("link_commands_per_second").get<double>() >
+        stream.at("peak_commands_per_second").get<double>());
+  CHECK(stream.at("starves") == false);
+
+TEST_CASE("a second job on the same model with other settings reuses the saliency the first computed") {
+  const salient::test::ScratchDir dir("jobs-saliency-cache");
+  Store store(dir.path);
+  JobService service(store, {});
+  service.start();
+  const std::string spot = model_bytes("spot.obj");
+  const auto run = [&](const char* settings) {
+    const Job j = wait_finished(store, service.submit("spot.obj", spot, settings).job.id);
+    CHECK(j.state == JobState::done);
+    return std::pair{service.saliency_cache().misses(), service.saliency_cache().hits()};
+  };
+  // The default is spectral: computed once, then reused by another ρ and another planner.
+  CHECK(run(R"({"up": "y", "height": 20})") == std::pair<std::uint64_t, std::uint64_t>{1, 0});
+  CHECK(run(R"({"up": "y", "height": 20, "rho": 0.1})") == std::pair<std::uint64_t, std::uint64_t>{1, 1});
+  CHECK(run(R"({"up": "y", "height": 20, "planner": "hms"})") ==
+        std::pair<std::uint64_t, std::uint64_t>{1, 2});
+  // Another height places other vertices: computed again. Uniform needs no computing: not counted.
+  CHECK(run(R"({"up": "y", "height": 25})") == std::pair<std::uint64_t, std::uint64_t>{2, 2});
+  CHECK(run(R"({"up": "y", "height": 20, "saliency": "uniform"})") ==
+        std::pair<std::uint64_t, std::uint64_t>{2, 2});
+}
+
+TEST_CASE("painted saliency in a job: a PLY's vertex quality paints the plan, a model without paint is 422") {
+  const salient::test::ScratchDir dir("jobs-painted");
+  Store store(dir.path);
+  JobService service(store, {});
+  service.start();
+  // spot, painted by height along its own y axis (up in the job), as a binary PLY with quality.
+  const salient::core::Mesh spot =
+      salient::core::load_mesh(std::filesystem::path(SALIENT_MODELS_DIR) / "spot.obj").mesh;
+  std::vector<float> paint;
+  for (const auto& p : spot.positions) paint.push_back(static_cast<float>(p.y));
+  const std::string ply = salient::core::ply_bytes(spot, paint, {});
+  const auto submitted =
+      service.submit("spot.ply", ply, R"({"up": "y", "height": 20, "saliency": "painted"})");
+  const Job done = wait_finished(store, submitted.job.id);
+  REQUIRE(done.state == JobState::done);
+  // The job's saliency artefact is the paint, min-max normalised, vertex for vertex.
+  const nlohmann::json result = nlohmann::json::parse(*done.result);
+  const salient::core::Mesh out =
+      salient::core::load_mesh(store.files().read(result.at("saliency").get<std::string>()), "s.ply").mesh;
+  REQUIRE(out.quality.size() == paint.size());
+  const auto [lo, hi] = std::minmax_element(paint.begin(), paint.end());
+  double worst = 0;
+  for (std::size_t i = 0; i < paint.size(); ++i)
+    worst = std::max(worst, double(std::fabs(out.quality[i] - (paint[i] - *lo) / (*hi - *lo))));
+  CHECK(worst < 1e-6);
+  CHECK(service.saliency_cache().misses() == 1);
+  try {
+    service.submit("spot.obj", model_bytes("spot.obj"), R"({"saliency": "painted"})");
+    FAIL("expected 422");
+  } catch (const DomainError& e) {
+    CHECK(salient::server::status_of(e.kind()) == 422);
+    CHECK(std::string(e.what()).find("spot.obj: 'saliency' painted needs vertex quality or vertex colours") !=
+          std::string::npos);
+  }
+}
+
+TEST_CASE("a job with no settings uses spectral saliency, an older job's canonical form keeps its uniform") {
+  const JobSettings none = parse_job_settings("");
+  CHECK(none.slice.plan.saliency == salient::core::SaliencyMethod::spectral);
+  CHECK(none.canonical.find(R"("saliency":"spectral")") != std::string::npos);
+  // Before Step 11 every canonical form held "saliency":"uniform" (the row is `always`): read back
+  // (as a worker does after a restart), it still means uniform, and it is not today's default.
+  const JobSettings old = parse_job_settings(R"({"saliency":"uniform","up":"z"})");
+  CHECK(old.slice.plan.saliency == salient::core::SaliencyMethod::uniform);
+  CHECK(parse_job_settings(old.canonical).canonical == old.canonical);
+  CHECK(old.canonical != none.canonical);
 }
