@@ -303,6 +303,7 @@ TEST_CASE("a job's result reports the stream its G-code needs against the printe
   CHECK(stream.at("link_commands_per_second").get<double>() >
         stream.at("peak_commands_per_second").get<double>());
   CHECK(stream.at("starves") == false);
+}
 
 TEST_CASE("a second job on the same model with other settings reuses the saliency the first computed") {
   const salient::test::ScratchDir dir("jobs-saliency-cache");
