@@ -25,6 +25,16 @@
 
 namespace {
 
+// A stop signal that reached a thread other than the watcher (see main), and where to send it.
+std::atomic<int> g_stop_signal{0};
+std::atomic<bool> g_watcher_ready{false};
+pthread_t g_watcher{};
+
+void forward_stop_signal(int sig) {
+  g_stop_signal.store(sig);
+  if (g_watcher_ready.load()) pthread_kill(g_watcher, sig);
+}
+
 using namespace salient::server;
 
 // One log line: outside bytes in it (an error echoing a request, a printer's reply) are cut to a
@@ -81,6 +91,14 @@ int serve(const std::string& config_path, const std::string& data, const std::st
              " ms=" + std::to_string(static_cast<int>(seconds * 1000)));
   };
 
+  // OpenBLAS starts its thread pool when it is loaded, before these lines can block the signals
+  // for it, so a SIGINT/SIGTERM may land on one of its threads: this handler hands it on to the
+  // watcher (or leaves it for the watcher to find, if it is not running yet).
+  struct sigaction forward {};
+  forward.sa_handler = forward_stop_signal;
+  sigemptyset(&forward.sa_mask);
+  sigaction(SIGINT, &forward, nullptr);
+  sigaction(SIGTERM, &forward, nullptr);
   // Signals go to the watcher thread only. SIGUSR2 is our own: it wakes the watcher when the
   // server ends for another reason, and is never logged as a stop request.
   sigset_t signals;
@@ -136,8 +154,10 @@ int serve(const std::string& config_path, const std::string& data, const std::st
            std::to_string(port) + " data=" + config.data_dir);
   std::atomic<bool> asked{false};
   std::thread watcher([&] {
-    int sig = 0;
-    sigwait(&signals, &sig);
+    g_watcher = pthread_self();
+    g_watcher_ready = true;
+    int sig = g_stop_signal.load();
+    if (sig == 0) sigwait(&signals, &sig);
     if (sig == SIGUSR2) return;
     asked = true;
     log_line(std::string("stopping (") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + ")");
