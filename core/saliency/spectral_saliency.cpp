@@ -21,6 +21,7 @@
 #include "core/saliency/spectral_saliency.hpp"
 
 #include <lapacke.h>
+#include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
@@ -273,15 +274,18 @@ std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& o
   const std::vector<double> mapped = transfer_values(work, multi, mesh);
   const PointGrid fine_grid(mesh.positions, 2.5 * eps);
   std::vector<double> out(mesh.vertex_count());
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    double sum = 0, wsum = 0;
-    fine_grid.for_each_within(mesh.positions[i], 2.5 * eps, [&](std::uint32_t j, double d2) {
-      const double w = std::exp(-d2 / (2 * eps * eps));
-      sum += w * mapped[j];
-      wsum += w;
-    });
-    out[i] = wsum > 0 ? sum / wsum : mapped[i];
-  }
+  tbb::parallel_for(
+      tbb::blocked_range<std::size_t>(0, out.size(), 1024), [&](const tbb::blocked_range<std::size_t>& r) {
+        for (std::size_t i = r.begin(); i != r.end(); ++i) {
+          double sum = 0, wsum = 0;
+          fine_grid.for_each_within(mesh.positions[i], 2.5 * eps, [&](std::uint32_t j, double d2) {
+            const double w = std::exp(-d2 / (2 * eps * eps));
+            sum += w * mapped[j];
+            wsum += w;
+          });
+          out[i] = wsum > 0 ? sum / wsum : mapped[i];
+        }
+      });
   out = normalised(std::move(out));
   run.report("saliency", 1.0);
   return std::vector<float>(out.begin(), out.end());
