@@ -6,6 +6,8 @@
 #include <CGAL/AABB_tree.h>
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <vector>
@@ -63,12 +65,16 @@ SurfacePoint SurfaceLocator::closest(const Vec3& query) const {
 std::vector<double> transfer_values(const Mesh& from, std::span<const double> values, const Mesh& to) {
   const SurfaceLocator locator(from);
   std::vector<double> out(to.vertex_count());
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const SurfacePoint s = locator.closest(to.positions[i]);
-    const Triangle& t = from.triangles[s.face];
-    out[i] =
-        s.barycentric[0] * values[t[0]] + s.barycentric[1] * values[t[1]] + s.barycentric[2] * values[t[2]];
-  }
+  // Queries on the built tree are const (CGAL locks its lazy builds), each vertex independent.
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, out.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        const SurfacePoint s = locator.closest(to.positions[i]);
+                        const Triangle& t = from.triangles[s.face];
+                        out[i] = s.barycentric[0] * values[t[0]] + s.barycentric[1] * values[t[1]] +
+                                 s.barycentric[2] * values[t[2]];
+                      }
+                    });
   return out;
 }
 
