@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 
 #include "core/common/input_error.hpp"
@@ -41,6 +42,41 @@ TimeModelParams time_model_params(const PrinterProfile& printer, const ToolpathS
   t.min_print_speed = gcode.min_print_speed;
   return t;
 }
+
+namespace {
+
+// The time objective decides on the layer time model, which is some per cent off the estimator
+// on the G-code (BENCHMARKS.md "The layer time model against the estimator") — more, on some
+// models, than the model's margin between its plan and the fewest layers'. So exact plans both
+// (the second plan is `--objective layers`' own), each is timed as it prints (toolpaths and
+// G-code, the estimator the user sees) and the quicker kept: `--objective time` never takes
+// longer than `--objective layers`. Both meet the same ε, so the choice costs no quality; it
+// costs one more plan and two more toolpath passes, which are cheap beside saliency.
+void keep_quicker_on_gcode(const PlanningSetup& setup, const Planner& planner, const PlanRequest& request,
+                           const RegionSliceSettings& settings, const PrinterProfile& printer,
+                           PlanResult& planned, const RunContext& run) {
+  PlanRequest by_layers = request;
+  by_layers.goal = PlanGoal::layers;
+  PlanResult fewest = planner.plan(by_layers);
+  if (fewest.plan.boundaries == planned.plan.boundaries) return;
+  const RunContext quiet{run.cancel, {}};  // their toolpath progress is not the job's
+  const auto seconds = [&](const LayerPlan& plan) {
+    PlanRegion whole;
+    whole.last_cell = setup.profile->cells();
+    whole.plan = plan;
+    return region_print_seconds(setup.model.loaded.mesh, *setup.profile, {whole}, settings, printer, quiet);
+  };
+  // A second's margin: the file's estimate adds the start and end code, whose junctions with the
+  // layers move fractions of a second.
+  const double t = seconds(planned.plan), l = seconds(fewest.plan);
+  if (t < l - 1) return;
+  planned.plan = std::move(fewest.plan);
+  planned.note = "time objective: the fewest layers' plan prints as fast on the G-code (" +
+                 std::to_string(std::lround(l)) + " s against " + std::to_string(std::lround(t)) +
+                 " s), so it is kept";
+}
+
+}  // namespace
 
 SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
   check_slice_settings(s, printer);  // before the orientations are sliced
@@ -92,7 +128,9 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
     const PlanTarget target = target_of(plan, *setup);
     PlanRequest request = setup->request(target);
     request.run = run;
-    const PlanResult planned = planner->plan(request);
+    PlanResult planned = planner->plan(request);
+    if (request.goal == PlanGoal::time && plan.planner == PlannerKind::exact && !target.layers)
+      keep_quicker_on_gcode(*setup, *planner, request, region_settings, printer, planned, run);
     out.plan = plan_document(*setup, out.model_name, std::string(to_string(plan.planner)), planned, target,
                              planning_seconds());
     PlanRegion whole;
