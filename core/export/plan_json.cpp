@@ -105,7 +105,25 @@ void read_layers(const Reader& in, const json& j, PlanDocument& out) {
   }
 }
 
+json times_object(const PlanTimes& t) {
+  return {{"plan_s", t.plan_seconds},
+          {"fine_layers", t.fine_layers},
+          {"fine_s", t.fine_seconds},
+          {"default_layer_height", t.default_layer_height},
+          {"default_layers", t.default_layers},
+          {"default_s", t.default_seconds},
+          {"default_rsmd", t.default_rsmd},
+          {"saving_vs_fine_s", t.saving_vs_fine()},
+          {"saving_vs_fine_percent", t.saving_vs_fine_percent()},
+          {"saving_vs_default_s", t.saving_vs_default()},
+          {"saving_vs_default_percent", t.saving_vs_default_percent()}};
+}
+
 }  // namespace
+
+std::string times_json(const PlanTimes& times, int indent) {
+  return text_of(times_object(times), indent);
+}
 
 std::string segmentation_json(const SegmentationReport& report, int indent) {
   return text_of(segmentation_object(report), indent);
@@ -145,20 +163,7 @@ std::string plan_json(const PlanDocument& p, int indent) {
   };
   if (!p.note.empty()) j["note"] = p.note;
   if (!p.objective.empty()) j["objective"] = p.objective;
-  if (p.times) {
-    const PlanTimes& t = *p.times;
-    j["times"] = {{"plan_s", t.plan_seconds},
-                  {"fine_layers", t.fine_layers},
-                  {"fine_s", t.fine_seconds},
-                  {"default_layer_height", t.default_layer_height},
-                  {"default_layers", t.default_layers},
-                  {"default_s", t.default_seconds},
-                  {"default_rsmd", t.default_rsmd},
-                  {"saving_vs_fine_s", t.saving_vs_fine()},
-                  {"saving_vs_fine_percent", t.saving_vs_fine_percent()},
-                  {"saving_vs_default_s", t.saving_vs_default()},
-                  {"saving_vs_default_percent", t.saving_vs_default_percent()}};
-  }
+  if (p.times) j["times"] = times_object(*p.times);
   if (!p.trace.empty()) {
     json trace = json::array();
     for (const PlanTraceStep& s : p.trace)

@@ -17,6 +17,10 @@ std::string plan_json(const PlanDocument& plan, int indent = 2);
 // A SegOpt report as the "segmentation" object of a plan (and of a job's result).
 std::string segmentation_json(const SegmentationReport& report, int indent = -1);
 
+// Estimated minutes against the uniform baselines as the "times" object of a plan (and of a job's
+// result).
+std::string times_json(const PlanTimes& times, int indent = -1);
+
 // Reads a plan written by plan_json, or by `salient plan -o` before the format had a version (the
 // same fields, no "format"). Throws InputError naming `name` and the field at fault; a newer
 // version or another format is refused saying which it is. The SegOpt report is not read back

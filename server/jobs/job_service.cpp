@@ -28,25 +28,14 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-// What "segment" decided (null without it), as `salient plan --segment` reports it.
 // Estimated minutes against the two uniform baselines (core::PlanTimes, from the time model);
 // print_seconds is the estimate of the G-code itself.
 nlohmann::json times_json(const core::SliceResult& r) {
   if (!r.plan.times) return nullptr;
-  const core::PlanTimes& t = *r.plan.times;
-  return {{"plan_s", t.plan_seconds},
-          {"fine_layers", t.fine_layers},
-          {"fine_s", t.fine_seconds},
-          {"default_layer_height", t.default_layer_height},
-          {"default_layers", t.default_layers},
-          {"default_s", t.default_seconds},
-          {"default_rsmd", t.default_rsmd},
-          {"saving_vs_fine_s", t.saving_vs_fine()},
-          {"saving_vs_fine_percent", t.saving_vs_fine_percent()},
-          {"saving_vs_default_s", t.saving_vs_default()},
-          {"saving_vs_default_percent", t.saving_vs_default_percent()}};
+  return nlohmann::json::parse(core::times_json(*r.plan.times));
 }
 
+// What "segment" decided (null without it), as `salient plan --segment` reports it.
 nlohmann::json segmentation_json(const core::SliceResult& r) {
   if (!r.plan.segmentation) return nullptr;
   return nlohmann::json::parse(core::segmentation_json(*r.plan.segmentation));
