@@ -11,17 +11,13 @@
 #include "core/geometry/polygon_simplify.hpp"
 #include "core/mesh/mesh_loader.hpp"
 #include "core/mesh/placement.hpp"
+#include "tests/core/geometry/segment_distance.hpp"
 #include "tests/core/mesh/mesh_test_util.hpp"
 
 using namespace salient::core;
+using salient::test::segment_distance;
 
 namespace {
-
-double segment_distance(const Point2& p, const Point2& a, const Point2& b) {
-  const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
-  const double t = len2 > 0 ? std::clamp(((p.x - a.x) * dx + (p.y - a.y) * dy) / len2, 0.0, 1.0) : 0;
-  return std::hypot(p.x - (a.x + t * dx), p.y - (a.y + t * dy));
-}
 
 // Points along the fitted moves from `start`, close enough that the trace's own chords stray
 // less than a micrometre from an arc.
