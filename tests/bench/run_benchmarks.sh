@@ -61,7 +61,7 @@ if command -v hyperfine >/dev/null && command -v prusa-slicer >/dev/null; then
   md=$(mktemp)
   hyperfine -N -i --warmup 1 --runs 5 --export-markdown "$md" \
     "$build/clients/salient slice $models/stanford-bunny.obj --up y --height 80 --planner uniform --layer-height 0.1 --min-layer 0.1 --max-layer 0.3 --printer generic-i3 -o /tmp/salient_bench_ours.gcode" \
-    "prusa-slicer --export-gcode $models/stanford-bunny.obj --rotate-x -90 --scale-to-fit 300,300,80 --layer-height 0.1 --first-layer-height 0.1 --perimeters 2 --fill-density 20% --fill-pattern rectilinear --top-solid-min-thickness 0.8 --bottom-solid-min-thickness 0.8 --output /tmp/salient_bench_prusa.gcode" \
+    "prusa-slicer --export-gcode $models/stanford-bunny.obj --rotate-x 90 --scale-to-fit 300,300,80 --layer-height 0.1 --first-layer-height 0.1 --perimeters 2 --fill-density 20% --fill-pattern rectilinear --top-solid-min-thickness 0.8 --bottom-solid-min-thickness 0.8 --output /tmp/salient_bench_prusa.gcode" \
     >/dev/null 2>&1
   cat "$md"
   rm -f "$md"
