@@ -48,14 +48,18 @@ def boundary_edges(tris):
     return [e for e, n in uses.items() if n == 1]
 
 
+def crossing(verts, a, b, z):
+    """Where edge a-b crosses the plane at z (x, y), or None; a vertex on the plane counts as above it."""
+    (xa, ya, za), (xb, yb, zb) = verts[a], verts[b]
+    if (za >= z) == (zb >= z):
+        return None
+    t = (z - za) / (zb - za)
+    return (xa + t * (xb - xa), ya + t * (yb - ya))
+
+
 def widest_open_end(verts, edges, z):
     """The largest distance from a boundary crossing at z to its nearest other crossing (0: none)."""
-    pts = []
-    for a, b in edges:
-        za, zb = verts[a][2], verts[b][2]
-        if (za >= z) != (zb >= z):  # a vertex on the plane counts as above it
-            t = (z - za) / (zb - za)
-            pts.append((verts[a][0] + t * (verts[b][0] - verts[a][0]), verts[a][1] + t * (verts[b][1] - verts[a][1])))
+    pts = [p for p in (crossing(verts, a, b, z) for a, b in edges) if p]
     widest = 0.0
     for i, p in enumerate(pts):
         nearest = min((math.dist(p, q) for j, q in enumerate(pts) if j != i), default=math.inf)
@@ -68,12 +72,8 @@ def section_area(verts, tris, z):
     normal (outer rings counter-clockwise): ½ Σ p × q, no chaining needed for a closed mesh."""
     twice = 0.0
     for tri in tris:
-        pts = []
-        for a, b in ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0])):
-            za, zb = verts[a][2], verts[b][2]
-            if (za >= z) != (zb >= z):
-                t = (z - za) / (zb - za)
-                pts.append((verts[a][0] + t * (verts[b][0] - verts[a][0]), verts[a][1] + t * (verts[b][1] - verts[a][1])))
+        sides = ((tri[0], tri[1]), (tri[1], tri[2]), (tri[2], tri[0]))
+        pts = [p for p in (crossing(verts, a, b, z) for a, b in sides) if p]
         if len(pts) != 2:
             continue
         (ax, ay, az), (bx, by, bz), (cx, cy, cz) = (verts[i] for i in tri)
@@ -125,7 +125,7 @@ def main():
         elif not (reported or unlisted or on_top):
             failures.append("our layer at z %.2f is missing and PrusaSlicer did not report it empty" % top)
         if gap <= PRUSA_MAX_GAP and area >= TINY_SECTION:
-            failures.append("our layer at z %.2f is missing where the mesh is closed with a %.2f mm2 section" % (top, area))
+            failures.append("our layer at z %.2f is missing where the mesh is closed, section %.2f mm2" % (top, area))
     for a, b in empty:  # and every range it reports empty is one of ours left out
         if not any(a < l["z_top"] < b + Z_TOLERANCE for l in dropped):
             failures.append("PrusaSlicer reports empty %g-%g, where it printed each of our layers" % (a, b))
