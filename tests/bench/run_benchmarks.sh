@@ -26,7 +26,7 @@ bash tests/bench/saliency_bench.sh "$build"
 echo "== eigen-decomposition of the working mesh's Laplacian: Eigen dense (all pairs) vs Spectra (part)"
 "$build/tests/bench/eigen_bench" "$models"/stanford-bunny.obj 500 1000 2000
 echo "== compare with spectral saliency (seconds exclude the saliency itself; --peers: Cura's adaptive layers as a row)"
-for m in stanford-bunny.obj:y spot.obj:y fandisk.obj:y; do
+for m in stanford-bunny.obj:y spot.obj:y fandisk.obj:y cow.obj:y teapot.obj:y suzanne.obj:y igea.ply:z; do
   "$build/clients/salient" compare "$models/${m%%:*}" --up "${m##*:}" --height 80 --saliency spectral --peers
 done
 echo "== Step 11: the layer time model against our estimator on real G-code (calibration)"
