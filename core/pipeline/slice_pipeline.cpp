@@ -150,12 +150,12 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.layers = static_cast<int>(out.z.size());
   out.finest_layers = p.most_layers();
   GcodeSettings gs;
-  gs.summary = {
-      "model = " + out.model_name,
-      "planner = " + std::string(to_string(plan.planner)) + ", metric " +
-          std::string(to_string(plan.metric)) + ", saliency " + std::string(to_string(plan.saliency)),
-      "plan = " + std::to_string(out.layers) + " layers (finest " + std::to_string(out.finest_layers) +
-          "), E " + std::to_string(out.error) + ", RSMD " + std::to_string(out.rsmd)};
+  gs.summary = {"model = " + out.model_name,
+                "planner = " + std::string(to_string(plan.planner)) + ", metric " +
+                    std::string(to_string(plan.metric)) + ", " + saliency_text(plan),
+                "plan = " + std::to_string(out.layers) + " layers (finest " +
+                    std::to_string(out.finest_layers) + "), E " + std::to_string(out.error) + ", RSMD " +
+                    std::to_string(out.rsmd)};
   if (out.segmentation) gs.summary.push_back("segmentation = " + out.segmentation->note);
   GcodeResult g = write_gcode(toolpaths, printer, gs);
   out.gcode = std::move(g.text);
