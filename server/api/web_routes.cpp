@@ -91,7 +91,11 @@ HttpResponse file_response(const HttpRequest& r, std::string_view name, std::str
 class PageFiles {
  public:
   PageFiles() {
-    for (const WebAsset& a : web_assets()) etags_.push_back("\"" + sha256_hex(a.bytes).substr(0, 24) + "\"");
+    for (const WebAsset& a : web_assets()) {
+      std::string tag(1, '"');
+      tag.append(sha256_hex(a.bytes), 0, 24).push_back('"');
+      etags_.push_back(std::move(tag));
+    }
   }
   HttpResponse serve(const HttpRequest& r, const std::string& name) const {
     const auto assets = web_assets();

@@ -1,0 +1,190 @@
+// The model as the job placed it on the bed, coloured by its saliency (the job's saliency.ply,
+// per-vertex `quality` 0..1), with the plan's layer boundaries drawn on its surface as contour
+// lines: where the model is salient the lines crowd together. WebGL through Debian's three.js.
+import * as THREE from '/vendor/three/three.module.js';
+import { Orbit } from './orbit.js';
+import { parsePly } from './ply.js';
+import { h, themeColor } from './dom.js';
+
+// Low saliency dark blue, high yellow (the "plasma" map; the legend in style.css matches).
+const STOPS = [
+  [0.05, 0.03, 0.53],
+  [0.49, 0.01, 0.66],
+  [0.8, 0.28, 0.47],
+  [0.97, 0.59, 0.25],
+  [0.94, 0.98, 0.13],
+];
+
+export function saliencyColor(q) {
+  const t = Math.min(1, Math.max(0, q || 0)) * (STOPS.length - 1);
+  const i = Math.min(STOPS.length - 2, Math.floor(t));
+  const f = t - i;
+  return STOPS[i].map((c, k) => c + (STOPS[i + 1][k] - c) * f);
+}
+
+export class SaliencyViewer {
+  constructor(container, plyBuffer, plan) {
+    const mesh = parsePly(plyBuffer);
+    this.canvas = h('canvas', {
+      class: 'viewer',
+      id: 'saliency-view',
+      tabindex: 0,
+      role: 'img',
+      'aria-label': `${plan.model}: saliency on the surface, ${plan.count} layers. Drag, or arrow keys, to turn; wheel, pinch or + and − to zoom; Home to reset.`,
+    });
+    const boundaries = h('input', { type: 'checkbox', id: 'show-layers', checked: true });
+    container.append(
+      this.canvas,
+      h(
+        'div',
+        { class: 'legend' },
+        h('span', {}, 'saliency 0'),
+        h('span', { class: 'ramp', 'aria-hidden': 'true' }),
+        h('span', {}, '1'),
+        h('label', {}, boundaries, ' layer boundaries'),
+      ),
+    );
+    this.renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias: true, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(Math.min(2, window.devicePixelRatio || 1));
+    this.scene = new THREE.Scene();
+    this.scene.background = new THREE.Color(themeColor('--view-bg') || '#20242c');
+    this.model = this.surface(mesh);
+    this.layers = this.contours(mesh, plan.layers.map((l) => l.z_top).slice(0, -1));
+    this.scene.add(this.model, this.layers);
+    boundaries.addEventListener('change', () => ((this.layers.visible = boundaries.checked), this.requestRender()));
+    this.scene.add(new THREE.AmbientLight(0xffffff, 0.55));
+    const light = new THREE.DirectionalLight(0xffffff, 0.6);
+    light.position.set(1, -1, 2);
+    this.scene.add(light);
+
+    const box = new THREE.Box3().setFromBufferAttribute(this.model.geometry.getAttribute('position'));
+    this.box = box;
+    const center = box.getCenter(new THREE.Vector3());
+    const size = box.getSize(new THREE.Vector3()).length();
+    this.camera = new THREE.PerspectiveCamera(35, 1, size / 100, size * 20);
+    this.band = this.highlightBand(box);
+    this.scene.add(this.band);
+    this.orbit = new Orbit(this.canvas, this.camera, [center.x, center.y, center.z], size * 1.6, () => this.requestRender());
+    this.resizer = new ResizeObserver(() => this.resize());
+    this.resizer.observe(this.canvas);
+    this.resize();
+  }
+
+  surface({ positions, quality, index }) {
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    const colors = new Float32Array(quality.length * 3);
+    for (let i = 0; i < quality.length; ++i) colors.set(saliencyColor(quality[i]), i * 3);
+    geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+    geometry.setIndex(new THREE.BufferAttribute(index, 1));
+    geometry.computeVertexNormals();
+    const material = new THREE.MeshLambertMaterial({
+      vertexColors: THREE.VertexColors,
+      side: THREE.DoubleSide,
+      polygonOffset: true, // the contour lines sit on the surface without flickering
+      polygonOffsetFactor: 1,
+      polygonOffsetUnits: 1,
+    });
+    return new THREE.Mesh(geometry, material);
+  }
+
+  // Where each boundary height cuts the surface: for every triangle, the boundaries between its
+  // lowest and highest corner, each giving one segment across two of its edges.
+  contours({ positions: p, index }, heights) {
+    const zs = Float64Array.from(heights).sort();
+    const out = [];
+    const cross = (a, b, z) => {
+      const t = (z - p[a * 3 + 2]) / (p[b * 3 + 2] - p[a * 3 + 2]);
+      out.push(p[a * 3] + (p[b * 3] - p[a * 3]) * t, p[a * 3 + 1] + (p[b * 3 + 1] - p[a * 3 + 1]) * t, z);
+    };
+    for (let f = 0; f < index.length; f += 3) {
+      let lo = index[f];
+      let mid = index[f + 1];
+      let hi = index[f + 2];
+      if (p[lo * 3 + 2] > p[mid * 3 + 2]) [lo, mid] = [mid, lo];
+      if (p[mid * 3 + 2] > p[hi * 3 + 2]) [mid, hi] = [hi, mid];
+      if (p[lo * 3 + 2] > p[mid * 3 + 2]) [lo, mid] = [mid, lo];
+      const zlo = p[lo * 3 + 2];
+      const zmid = p[mid * 3 + 2];
+      const zhi = p[hi * 3 + 2];
+      if (zhi <= zlo) continue;
+      let i = lowerBound(zs, zlo);
+      for (; i < zs.length && zs[i] < zhi; ++i) {
+        const z = zs[i];
+        if (z <= zlo) continue;
+        cross(lo, hi, z);
+        if (z < zmid) cross(lo, mid, z);
+        else cross(mid, hi, z);
+      }
+    }
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(Float32Array.from(out), 3));
+    const material = new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.55 });
+    return new THREE.LineSegments(geometry, material);
+  }
+
+  // A translucent slab showing the layer the plot's pointer is on.
+  highlightBand(box) {
+    const size = box.getSize(new THREE.Vector3());
+    const geometry = new THREE.BoxGeometry(size.x * 1.15, size.y * 1.15, 1);
+    const material = new THREE.MeshBasicMaterial({ color: 0x22d3ee, transparent: true, opacity: 0.35, depthWrite: false });
+    const band = new THREE.Mesh(geometry, material);
+    const c = box.getCenter(new THREE.Vector3());
+    band.position.set(c.x, c.y, 0);
+    band.visible = false;
+    return band;
+  }
+
+  // layer: {z_bottom, z_top} from the plan, or null to hide the band.
+  highlight(layer) {
+    this.band.visible = !!layer;
+    if (layer) {
+      this.band.scale.z = Math.max(0.01, layer.z_top - layer.z_bottom);
+      this.band.position.z = (layer.z_top + layer.z_bottom) / 2;
+    }
+    this.requestRender();
+  }
+
+  resize() {
+    const width = this.canvas.clientWidth || 300;
+    const height = this.canvas.clientHeight || 300;
+    this.renderer.setSize(width, height, false);
+    this.camera.aspect = width / height;
+    this.camera.updateProjectionMatrix();
+    this.requestRender();
+  }
+
+  requestRender() {
+    if (this.pending || !this.renderer) return;
+    this.pending = requestAnimationFrame(() => {
+      this.pending = 0;
+      this.renderer.render(this.scene, this.camera);
+      const frames = Number(this.canvas.dataset.frames || 0) + 1;
+      this.canvas.dataset.frames = String(frames);
+      if (frames === 1) performance.mark('saliency-drawn'); // the browser tests time the page by it
+    });
+  }
+
+  dispose() {
+    cancelAnimationFrame(this.pending);
+    this.resizer.disconnect();
+    this.orbit.dispose();
+    for (const o of [this.model, this.layers, this.band]) {
+      o.geometry.dispose();
+      o.material.dispose();
+    }
+    this.renderer.dispose();
+    this.renderer = null;
+  }
+}
+
+function lowerBound(sorted, value) {
+  let lo = 0;
+  let hi = sorted.length;
+  while (lo < hi) {
+    const m = (lo + hi) >> 1;
+    if (sorted[m] < value) lo = m + 1;
+    else hi = m;
+  }
+  return lo;
+}
