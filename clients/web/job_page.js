@@ -64,7 +64,12 @@ function header(j) {
         )
       : null,
     j.error ? h('p', { class: 'error', role: 'alert' }, j.error) : null,
-    h('p', { class: 'muted' }, `Submitted ${when(j.created_at)} · settings `, h('code', {}, JSON.stringify(j.settings))),
+    h(
+      'details',
+      { class: 'settings-used' },
+      h('summary', {}, `Submitted ${when(j.created_at)} · settings`),
+      h('code', {}, JSON.stringify(j.settings)),
+    ),
   ];
 }
 

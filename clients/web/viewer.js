@@ -126,8 +126,8 @@ export class SaliencyViewer {
   // A translucent slab showing the layer the plot's pointer is on.
   highlightBand(box) {
     const size = box.getSize(new THREE.Vector3());
-    const geometry = new THREE.BoxGeometry(size.x * 1.15, size.y * 1.15, 1);
-    const material = new THREE.MeshBasicMaterial({ color: 0x22d3ee, transparent: true, opacity: 0.35, depthWrite: false });
+    const geometry = new THREE.BoxGeometry(size.x * 1.06, size.y * 1.06, 1);
+    const material = new THREE.MeshBasicMaterial({ color: 0x22d3ee, transparent: true, opacity: 0.3, depthWrite: false });
     const band = new THREE.Mesh(geometry, material);
     const c = box.getCenter(new THREE.Vector3());
     band.position.set(c.x, c.y, 0);
