@@ -366,6 +366,18 @@ def pause_resume_cancel(page):
     log(f"cancelled: {page.text('#current-print')!r}")
 
 
+def dark_mode(page, job):
+    """The job page as a system in dark mode shows it (prefers-color-scheme)."""
+    scheme = lambda value: page.d.execute_cdp_cmd(
+        "Emulation.setEmulatedMedia", {"features": [{"name": "prefers-color-scheme", "value": value}]})
+    scheme("dark")
+    load_job_page(page, job, cold=False)
+    background = page.js("return getComputedStyle(document.body).backgroundColor")
+    check(background == "rgb(17, 20, 24)", f"dark mode has a {background} background")
+    page.screenshot("job-dark")
+    scheme("")
+
+
 def report_latency(page, earlier):
     latencies = earlier + page.js("return window.salientMetrics.eventLatencies")
     latencies = sorted(max(0.0, x) for x in latencies)
@@ -405,6 +417,7 @@ def main():
         driver.get(daemon.base + "/#/jobs")
         page.wait("the job list", lambda: page.find(f"#job-list [data-id='{job}']"))
         page.screenshot("jobs")
+        dark_mode(page, job)
         errors = page.console_errors()
         check(not errors, f"the browser's console has errors: {errors}")
         check(daemon.log_text().count(daemon.key) == 1, "the API key is in salientd's log beyond its first-start line")
