@@ -4,7 +4,7 @@ import { api } from './api.js';
 import { h, fill, toast, badge, progressBar, when, percent, minutes } from './dom.js';
 
 const PROFILES = ['generic-i3', 'ender3', 'replicator2x'];
-const MODEL_TYPES = '.stl,.obj,.ply,.off,.3mf';
+const MODEL_TYPES = '.stl,.obj,.ply,.off';
 
 export async function jobsView(main, { events }) {
   const rows = new Map(); // job id -> row element
@@ -65,7 +65,7 @@ async function submitCard() {
   const drop = h(
     'div',
     { class: 'drop', id: 'drop-zone' },
-    h('p', {}, 'Drop a model here (STL, OBJ, PLY, OFF, 3MF) or '),
+    h('p', {}, 'Drop a model here (STL, OBJ, PLY, OFF) or '),
     h('label', { for: 'model-file', class: 'button' }, 'choose a file'),
     file,
     chosen,
