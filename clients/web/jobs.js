@@ -60,65 +60,11 @@ async function submitCard() {
   } catch {
     /* the built-in profiles then */
   }
-  const file = h('input', { type: 'file', id: 'model-file', accept: MODEL_TYPES, class: 'visually-hidden' });
-  const chosen = h('span', { class: 'chosen', id: 'chosen-file' }, 'No model chosen');
-  const drop = h(
-    'div',
-    { class: 'drop', id: 'drop-zone' },
-    h('p', {}, 'Drop a model here (STL, OBJ, PLY, OFF) or '),
-    h('label', { for: 'model-file', class: 'button' }, 'choose a file'),
-    file,
-    chosen,
-  );
   let model = null;
-  const pick = (f) => {
-    model = f || null;
-    chosen.textContent = model ? `${model.name} (${(model.size / 1024).toFixed(0)} KiB)` : 'No model chosen';
-  };
-  file.addEventListener('change', () => pick(file.files[0]));
-  drop.addEventListener('dragover', (e) => {
-    e.preventDefault();
-    drop.classList.add('over');
-  });
-  drop.addEventListener('dragleave', () => drop.classList.remove('over'));
-  drop.addEventListener('drop', (e) => {
-    e.preventDefault();
-    drop.classList.remove('over');
-    if (e.dataTransfer.files.length) pick(e.dataTransfer.files[0]);
-  });
-
-  const field = (label, input, hint) =>
-    h('div', { class: 'field' }, h('label', { for: input.id }, label), input, hint ? h('small', { class: 'muted' }, hint) : null);
-  const select = (id, options, value) =>
-    h('select', { id }, options.map(([v, text]) => h('option', { value: v, selected: v === value }, text)));
-  const printer = select('s-printer', profiles.map((p) => [p, p]), profiles[0]);
-  const target = select('s-target', [['rho', 'quality ρ'], ['layers', 'layer count']], 'rho');
-  const amount = h('input', { id: 's-amount', type: 'number', step: 'any', min: 0, value: '0.05' });
-  target.addEventListener('change', () => {
-    amount.value = target.value === 'rho' ? '0.05' : '100';
-    amount.step = target.value === 'rho' ? 'any' : '1';
-  });
-  const height = h('input', { id: 's-height', type: 'number', step: 'any', min: 0.1, placeholder: 'as the file' });
-  const up = select('s-up', [['z', 'z up'], ['y', 'y up'], ['x', 'x up'], ['auto', 'auto (paper §6)']], 'z');
-  const saliency = select(
-    's-saliency',
-    [['spectral', 'spectral (the paper’s)'], ['lee05', 'lee05'], ['painted', 'painted in the file'], ['uniform', 'uniform']],
-    'spectral',
-  );
-  const segment = h('input', { id: 's-segment', type: 'checkbox' });
-  const support = h('input', { id: 's-support', type: 'checkbox' });
+  const drop = dropZone((f) => (model = f));
+  const { fields, settings } = settingsForm(profiles);
   const status = h('p', { class: 'muted', role: 'status', id: 'submit-status' });
   const button = h('button', { type: 'submit', id: 'submit-job' }, 'Slice');
-
-  const settings = () => {
-    const s = { printer: printer.value, up: up.value, saliency: saliency.value };
-    const n = Number(amount.value);
-    if (amount.value !== '') s[target.value] = target.value === 'layers' ? Math.round(n) : n;
-    if (height.value !== '') s.height = Number(height.value);
-    if (segment.checked) s.segment = true;
-    if (support.checked) s.support = true;
-    return s;
-  };
   const submit = async (e) => {
     e.preventDefault();
     if (!model) {
@@ -141,21 +87,88 @@ async function submitCard() {
     'form',
     { class: 'card submit', onsubmit: submit, 'aria-label': 'New job' },
     drop,
-    h(
-      'div',
-      { class: 'settings' },
-      field('Printer profile', printer),
-      h('div', { class: 'field' }, h('label', { for: 's-target' }, 'Plan to'), h('div', { class: 'pair' }, target, amount)),
-      field('Height (mm)', height, 'scale the model to it'),
-      field('Orientation', up),
-      field('Saliency', saliency),
-      h(
-        'div',
-        { class: 'field checks' },
-        h('label', {}, segment, ' SegOpt: cut where it saves time'),
-        h('label', {}, support, ' Support under overhangs'),
-      ),
-    ),
+    fields,
     h('div', { class: 'actions' }, button, status),
   );
+}
+
+// Where a model is dropped, or picked with the file chooser (a label for a real file input:
+// the keyboard reaches it); onPick(file) with the one chosen.
+function dropZone(onPick) {
+  const file = h('input', { type: 'file', id: 'model-file', accept: MODEL_TYPES, class: 'visually-hidden' });
+  const chosen = h('span', { class: 'chosen', id: 'chosen-file' }, 'No model chosen');
+  const drop = h(
+    'div',
+    { class: 'drop', id: 'drop-zone' },
+    h('p', {}, 'Drop a model here (STL, OBJ, PLY, OFF) or '),
+    h('label', { for: 'model-file', class: 'button' }, 'choose a file'),
+    file,
+    chosen,
+  );
+  const pick = (f) => {
+    onPick(f || null);
+    chosen.textContent = f ? `${f.name} (${(f.size / 1024).toFixed(0)} KiB)` : 'No model chosen';
+  };
+  file.addEventListener('change', () => pick(file.files[0]));
+  drop.addEventListener('dragover', (e) => {
+    e.preventDefault();
+    drop.classList.add('over');
+  });
+  drop.addEventListener('dragleave', () => drop.classList.remove('over'));
+  drop.addEventListener('drop', (e) => {
+    e.preventDefault();
+    drop.classList.remove('over');
+    if (e.dataTransfer.files.length) pick(e.dataTransfer.files[0]);
+  });
+  return drop;
+}
+
+// The settings a user needs (the server's defaults for the rest, as README's table lists them):
+// the fields, and a function that reads them as the job's settings.
+function settingsForm(profiles) {
+  const field = (label, input, hint) =>
+    h('div', { class: 'field' }, h('label', { for: input.id }, label), input, hint ? h('small', { class: 'muted' }, hint) : null);
+  const select = (id, options, value) =>
+    h('select', { id }, options.map(([v, text]) => h('option', { value: v, selected: v === value }, text)));
+  const printer = select('s-printer', profiles.map((p) => [p, p]), profiles[0]);
+  const target = select('s-target', [['rho', 'quality ρ'], ['layers', 'layer count']], 'rho');
+  const amount = h('input', { id: 's-amount', type: 'number', step: 'any', min: 0, value: '0.05', 'aria-label': 'ρ or layers' });
+  target.addEventListener('change', () => {
+    amount.value = target.value === 'rho' ? '0.05' : '100';
+    amount.step = target.value === 'rho' ? 'any' : '1';
+  });
+  const height = h('input', { id: 's-height', type: 'number', step: 'any', min: 0.1, placeholder: 'as the file' });
+  const up = select('s-up', [['z', 'z up'], ['y', 'y up'], ['x', 'x up'], ['auto', 'auto (paper §6)']], 'z');
+  const saliency = select(
+    's-saliency',
+    [['spectral', 'spectral (the paper’s)'], ['lee05', 'lee05'], ['painted', 'painted in the file'], ['uniform', 'uniform']],
+    'spectral',
+  );
+  const segment = h('input', { id: 's-segment', type: 'checkbox' });
+  const support = h('input', { id: 's-support', type: 'checkbox' });
+  const fields = h(
+    'div',
+    { class: 'settings' },
+    field('Printer profile', printer),
+    h('div', { class: 'field' }, h('label', { for: 's-target' }, 'Plan to'), h('div', { class: 'pair' }, target, amount)),
+    field('Height (mm)', height, 'scale the model to it'),
+    field('Orientation', up),
+    field('Saliency', saliency),
+    h(
+      'div',
+      { class: 'field checks' },
+      h('label', {}, segment, ' SegOpt: cut where it saves time'),
+      h('label', {}, support, ' Support under overhangs'),
+    ),
+  );
+  const settings = () => {
+    const s = { printer: printer.value, up: up.value, saliency: saliency.value };
+    const n = Number(amount.value);
+    if (amount.value !== '') s[target.value] = target.value === 'layers' ? Math.round(n) : n;
+    if (height.value !== '') s.height = Number(height.value);
+    if (segment.checked) s.segment = true;
+    if (support.checked) s.support = true;
+    return s;
+  };
+  return { fields, settings };
 }
