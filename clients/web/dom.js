@@ -42,6 +42,25 @@ export function toast(message, kind = 'error') {
   toastTimer = setTimeout(() => (el.hidden = true), kind === 'error' ? 8000 : 3000);
 }
 
+// Tells screen readers of a change of state (not of every progress step: those stay quiet).
+export function announce(message) {
+  document.getElementById('announcer').textContent = message;
+}
+
+// A library the page imports from /vendor/ failed to load: the server's own words when it has
+// some (a 404 naming the Debian package to install), else the browser's.
+export async function whyNotLoaded(error) {
+  for (const url of ['/vendor/three/three.module.js', '/vendor/chart.js/chart.esm.js']) {
+    try {
+      const r = await fetch(url, { method: 'GET', cache: 'no-store' });
+      if (!r.ok) return (await r.json()).error.message;
+    } catch {
+      /* the server is not answering: the browser's message says so */
+    }
+  }
+  return error.message;
+}
+
 // Runs an async action from a button: disabled while it runs, its error shown as the API says it.
 export async function act(button, fn) {
   if (button) button.disabled = true;

@@ -2,7 +2,7 @@
 // and the uniform plan, filament), downloads, "print on …", delete, and the science: the model
 // coloured by saliency with its layer boundaries (viewer.js) and the plan plot (plan_chart.js).
 import { api } from './api.js';
-import { h, fill, toast, act, badge, progressBar, minutes, percent, signed, confirmed, when } from './dom.js';
+import { h, fill, toast, act, badge, progressBar, minutes, percent, signed, confirmed, when, announce, whyNotLoaded } from './dom.js';
 
 const DOWNLOADS = [
   ['gcode', 'G-code', '.gcode'],
@@ -20,7 +20,7 @@ export async function jobView(main, id, { events, navigate }) {
     fill(main, h('h1', {}, 'Job ' + id), h('p', { class: 'error' }, e.message), h('a', { href: '#/jobs' }, 'All jobs'));
     return () => {};
   }
-  const head = h('section', { class: 'job-head', 'aria-live': 'polite' });
+  const head = h('section', { class: 'job-head' });
   const body = h('div', { class: 'job-body' });
   fill(main, h('p', {}, h('a', { href: '#/jobs' }, '← All jobs')), head, body);
   let science = null;
@@ -31,6 +31,7 @@ export async function jobView(main, id, { events, navigate }) {
     fill(head, header(j));
     if (message) window.salientMetrics.eventLatencies.push(performance.timeOrigin + performance.now() - message.time * 1000);
     if (j.state === shownState) return;
+    if (shownState) announce(`${j.filename}: ${j.state}`);
     shownState = j.state;
     if (j.state === 'done' && j.result) {
       fill(body, summary(j), actions(j, navigate));
@@ -180,7 +181,7 @@ async function showScience(body, j) {
     const chart = new PlanChart(plot, plan, (layer) => viewer.highlight(layer));
     return { dispose: () => (viewer.dispose(), chart.dispose()) };
   } catch (e) {
-    view.append(h('p', { class: 'error' }, e.message));
+    view.append(h('p', { class: 'error', role: 'alert' }, await whyNotLoaded(e)));
     return null;
   }
 }

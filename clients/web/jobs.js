@@ -8,7 +8,7 @@ const MODEL_TYPES = '.stl,.obj,.ply,.off';
 
 export async function jobsView(main, { events }) {
   const rows = new Map(); // job id -> row element
-  const list = h('ul', { class: 'jobs', 'aria-live': 'polite', id: 'job-list' });
+  const list = h('ul', { class: 'jobs', id: 'job-list' });
   const empty = h('p', { class: 'muted' }, 'No jobs yet: drop a model above.');
   fill(main, h('h1', { class: 'visually-hidden' }, 'Jobs'), await submitCard(), h('h2', {}, 'Jobs'), empty, list);
 

@@ -3,7 +3,7 @@
 // way with pause/resume/cancel/emergency stop, connect/disconnect, a terminal, and its history
 // with resume for an interrupted print.
 import { api } from './api.js';
-import { h, fill, toast, act, badge, progressBar, celsius, duration, percent, when, confirmed } from './dom.js';
+import { h, fill, toast, act, badge, progressBar, celsius, duration, percent, when, confirmed, announce, whyNotLoaded } from './dom.js';
 
 export async function printersView(main, { events }) {
   const grid = h('div', { class: 'printers', id: 'printer-list' });
@@ -43,7 +43,7 @@ export async function printerView(main, id, { events }) {
     fill(main, h('h1', {}, 'Printer ' + id), h('p', { class: 'error' }, e.message), h('a', { href: '#/printers' }, 'All printers'));
     return () => {};
   }
-  const head = h('section', { class: 'printer-head', 'aria-live': 'polite' });
+  const head = h('section', { class: 'printer-head' });
   const current = h('section', { class: 'card', id: 'current-print', 'aria-label': 'Current print' });
   const temps = h('section', { class: 'card', 'aria-label': 'Temperatures' });
   const terminal = h('section', { class: 'card', 'aria-label': 'Terminal' });
@@ -56,7 +56,7 @@ export async function printerView(main, id, { events }) {
   let chart = null;
   const chartReady = Promise.all([import('./temperature_chart.js'), api.get(path + '/temperatures')])
     .then(([{ TemperatureChart }, history]) => (chart = new TemperatureChart(chartBox, history)))
-    .catch((e) => fill(chartBox, h('p', { class: 'error' }, e.message)));
+    .catch(async (e) => fill(chartBox, h('p', { class: 'error' }, await whyNotLoaded(e))));
 
   let lastState = '';
   let shown = '';
@@ -65,6 +65,7 @@ export async function printerView(main, id, { events }) {
     // Rebuilt when the state changes (buttons keep their focus between progress events).
     const key = `${p.state}/${p.error}/${p.print ? p.print.id : ''}`;
     if (key !== shown) {
+      if (shown) announce(`${p.id}: ${p.state}`);
       shown = key;
       fill(head, h('h1', {}, p.id, ' ', badge(p.state)), h('p', { class: 'muted' }, details(p)), p.error ? h('p', { class: 'error', role: 'alert' }, p.error) : null, connection(p, path));
       fill(current, ...printView(p, path));
