@@ -4,6 +4,8 @@
 #include <doctest/doctest.h>
 
 #include <fstream>
+#include <regex>
+#include <set>
 
 #include "server/api/routes.hpp"
 #include "server/api/web_assets.hpp"
@@ -146,4 +148,35 @@ TEST_CASE("a missing library is a 404 that says which package to install") {
   CHECK(r.body.find("libjs-three") != std::string::npos);
   CHECK(page.get("/vendor/chart.js/chart.esm.js").body.find("libjs-chart.js") != std::string::npos);
   CHECK(page.get("/").status == 200);  // the page itself still loads, and says what is missing
+}
+
+TEST_CASE("every file the page names is compiled in, and it names nothing outside this server") {
+  std::set<std::string> names;
+  for (const WebAsset& a : web_assets()) names.insert(std::string(a.name));
+  REQUIRE(names.count("index.html") == 1);
+  REQUIRE(names.count("app.js") == 1);
+  // "/web/x", './x.js' (imports), "/vendor/…": what the HTML and the modules load.
+  const std::regex local(R"re((?:/web/|['"]\./)([\w.-]+\.(?:js|css|svg)))re");
+  const std::regex vendor(R"re(['"](/vendor/[\w./-]+))re");
+  const std::regex outside(R"re((?:src|href|from|import\()\s*=?\s*['"](?:https?:)?//)re");
+  Page page;
+  int referenced = 0;
+  for (const WebAsset& a : web_assets()) {
+    const std::string text(a.bytes);
+    CAPTURE(a.name);
+    for (auto m = std::sregex_iterator(text.begin(), text.end(), local); m != std::sregex_iterator(); ++m) {
+      CAPTURE((*m)[1].str());
+      CHECK(names.count((*m)[1].str()) == 1);
+      ++referenced;
+    }
+    for (auto m = std::sregex_iterator(text.begin(), text.end(), vendor); m != std::sregex_iterator(); ++m) {
+      const std::string path = (*m)[1].str();
+      CAPTURE(path);
+      CHECK((path == "/vendor/three/three.module.js" || path == "/vendor/chart.js/chart.esm.js"));
+    }
+    CHECK(!std::regex_search(text, outside));           // no CDN, no other origin
+    CHECK(text.find("<script>") == std::string::npos);  // no inline script (the CSP would refuse it)
+    CHECK(text.find(" style=") == std::string::npos);   // nor inline style
+  }
+  CHECK(referenced > 10);
 }
