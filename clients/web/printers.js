@@ -116,7 +116,15 @@ function printView(p, path) {
     return out;
   }
   const layer = run.layer ? `layer ${run.layer} of ${run.layers}` : null;
-  out.push(
+  const picture = h('div', { class: 'picture-box' });
+  if (run.job)
+    import('./print_picture.js').then(({ PrintPicture }) => {
+      picture.picture = new PrintPicture(picture, run.job);
+      picture.picture.update(run.layer, run.layers);
+    });
+  const info = h(
+    'div',
+    { class: 'print-info' },
     h('p', {}, h('strong', {}, run.file), ' ', badge(run.state)),
     h('div', { class: 'print-progress' }, progressBar(run.progress, 'print progress'), h('span', { id: 'print-percent' }, percent(run.progress, 1))),
     h(
@@ -128,6 +136,7 @@ function printView(p, path) {
       h('div', {}, h('dt', {}, 'Time left'), h('dd', { id: 'print-left' }, duration(run.eta))),
     ),
   );
+  out.push(h('div', { class: 'print-row' }, picture, info));
   const button = (label, id, action, question, cls) =>
     h(
       'button',
@@ -160,6 +169,8 @@ function updatePrint(section, run) {
     const el = section.querySelector(selector);
     if (el) el.textContent = text;
   };
+  const picture = section.querySelector('.picture-box');
+  if (picture && picture.picture) picture.picture.update(run.layer, run.layers);
   const bar = section.querySelector('progress');
   if (bar) bar.value = run.progress;
   set('#print-percent', percent(run.progress, 1));

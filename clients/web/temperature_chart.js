@@ -1,6 +1,7 @@
 // A printer's temperatures over the last half hour: the history from
 // GET /api/v1/printers/{id}/temperatures, then each "printer" event added as it comes. The time
-// axis is minutes before now (Chart.js's time axis would need a date library Debian does not ship).
+// axis is minutes before now (Chart.js's time axis would need a date library Debian does not
+// ship), as long as the history goes back, up to 30.
 import { Chart, registerables } from '/vendor/chart.js/chart.esm.js';
 import { h, themeColor } from './dom.js';
 
@@ -16,7 +17,7 @@ const SERIES = [
 
 export class TemperatureChart {
   constructor(container, history) {
-    const canvas = h('canvas', { id: 'temperature-chart', role: 'img', 'aria-label': 'Temperatures over the last 30 minutes' });
+    const canvas = h('canvas', { id: 'temperature-chart', role: 'img', 'aria-label': 'Temperatures over the last 30 minutes at most' });
     container.replaceChildren(canvas);
     this.points = []; // [time, hotend, hotend_target, bed, bed_target]
     const columns = history.columns || [];
@@ -68,6 +69,9 @@ export class TemperatureChart {
   redraw() {
     const now = Date.now() / 1000;
     while (this.points.length && this.points[0][0] < now - WINDOW) this.points.shift();
+    // The axis spans what there is, from 2 minutes up to the half hour kept.
+    const span = this.points.length ? (now - this.points[0][0]) / 60 : 0;
+    this.chart.options.scales.x.min = -Math.min(30, Math.max(2, Math.ceil(span)));
     this.chart.data.datasets.forEach((d, k) => {
       d.data = this.points.map((p) => ({ x: (p[0] - now) / 60, y: p[k + 1] ?? null }));
     });

@@ -381,6 +381,7 @@ def print_on_sim(page):
     log(f"temperatures moved: {hotend[0]!r} … {hotend[-1]!r}; progress {percent[0]} … {percent[-1]},"
         f" {page.text('#print-layer')}")
     page.wait("the temperature chart", lambda: page.find("#temperature-chart"), 10)
+    page.wait("the progress picture", lambda: page.find("#print-picture"), 10)
 
 
 def pause_resume_cancel(page):
