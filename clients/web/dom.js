@@ -144,6 +144,9 @@ export function confirmed(question, yes = 'Yes') {
   });
 }
 
+// SegOpt's regions, in the plan plot and on the model alike.
+export const REGION_COLORS = ['#e11d48', '#16a34a', '#9333ea', '#ea580c', '#0891b2', '#ca8a04'];
+
 // The theme's colours, read from CSS variables (charts and the 3D view follow light/dark).
 export function themeColor(name) {
   return getComputedStyle(document.documentElement).getPropertyValue(name).trim();

@@ -3,11 +3,10 @@
 // saliency and error (the layer's SM), and lights it on the 3D view. A SegOpt plan adds each
 // region's own layers in its colour. Chart.js from Debian's libjs-chart.js.
 import { Chart, registerables } from '/vendor/chart.js/chart.esm.js';
-import { h, themeColor } from './dom.js';
+import { h, themeColor, REGION_COLORS } from './dom.js';
 
 Chart.register(...registerables);
 
-const REGION_COLORS = ['#e11d48', '#16a34a', '#9333ea', '#ea580c', '#0891b2', '#ca8a04'];
 
 export class PlanChart {
   constructor(container, plan, onLayer) {

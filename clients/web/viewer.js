@@ -4,7 +4,7 @@
 import * as THREE from '/vendor/three/three.module.js';
 import { Orbit } from './orbit.js';
 import { parsePly } from './ply.js';
-import { h, themeColor } from './dom.js';
+import { h, themeColor, REGION_COLORS } from './dom.js';
 
 // Low saliency dark blue, high yellow (the "plasma" map; the legend in style.css matches).
 const STOPS = [
@@ -41,7 +41,7 @@ export class SaliencyViewer {
         h('span', {}, 'saliency 0'),
         h('span', { class: 'ramp', 'aria-hidden': 'true' }),
         h('span', {}, '1'),
-        h('label', {}, boundaries, ' layer boundaries'),
+        h('label', {}, boundaries, plan.segmentation && plan.segmentation.cut ? ' layer boundaries, a colour per region' : ' layer boundaries'),
       ),
     );
     this.renderer = new THREE.WebGLRenderer({ canvas: this.canvas, antialias: true, preserveDrawingBuffer: true });
@@ -49,7 +49,7 @@ export class SaliencyViewer {
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(themeColor('--view-bg') || '#20242c');
     this.model = this.surface(mesh);
-    this.layers = this.contours(mesh, plan.layers.map((l) => l.z_top).slice(0, -1));
+    this.layers = this.boundaries(mesh, plan);
     this.scene.add(this.model, this.layers);
     boundaries.addEventListener('change', () => ((this.layers.visible = boundaries.checked), this.requestRender()));
     this.scene.add(new THREE.AmbientLight(0xffffff, 0.55));
@@ -88,9 +88,37 @@ export class SaliencyViewer {
     return new THREE.Mesh(geometry, material);
   }
 
+  // The layer boundaries as lines on the surface: the plan's printed layers in one colour, or for
+  // a SegOpt plan each region's own layers in its colour (inside its clip polygon and slab, in
+  // the bed's coordinates as the PLY's), the plan plot's colours.
+  boundaries(mesh, plan) {
+    const regions = (plan.segmentation && plan.segmentation.cut && plan.segmentation.regions) || [];
+    const parts = regions.length
+      ? regions.map((r, i) => ({
+          points: this.contours(mesh, r.boundaries.slice(1, -1), (x, y, z) => z >= r.z_bottom && z <= r.z_top && inside(r.clip, x, y)),
+          color: new THREE.Color(REGION_COLORS[i % REGION_COLORS.length]),
+        }))
+      : [{ points: this.contours(mesh, plan.layers.map((l) => l.z_top).slice(0, -1)), color: new THREE.Color(0x111111) }];
+    const count = parts.reduce((n, part) => n + part.points.length, 0);
+    const positions = new Float32Array(count);
+    const colors = new Float32Array(count);
+    let at = 0;
+    for (const { points, color } of parts) {
+      positions.set(points, at);
+      for (let i = 0; i < points.length; i += 3) colors.set([color.r, color.g, color.b], at + i);
+      at += points.length;
+    }
+    const geometry = new THREE.BufferGeometry();
+    geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    geometry.setAttribute('color', new THREE.BufferAttribute(colors, 3));
+    const material = new THREE.LineBasicMaterial({ vertexColors: THREE.VertexColors, transparent: true, opacity: 0.6 });
+    return new THREE.LineSegments(geometry, material);
+  }
+
   // Where each boundary height cuts the surface: for every triangle, the boundaries between its
-  // lowest and highest corner, each giving one segment across two of its edges.
-  contours({ positions: p, index }, heights) {
+  // lowest and highest corner, each giving one segment across two of its edges (kept when
+  // keep(x, y, z) holds at its middle). Returns the segments' ends, x y z each.
+  contours({ positions: p, index }, heights, keep = () => true) {
     const zs = Float64Array.from(heights).sort();
     const out = [];
     const cross = (a, b, z) => {
@@ -115,12 +143,11 @@ export class SaliencyViewer {
         cross(lo, hi, z);
         if (z < zmid) cross(lo, mid, z);
         else cross(mid, hi, z);
+        const n = out.length;
+        if (!keep((out[n - 6] + out[n - 3]) / 2, (out[n - 5] + out[n - 2]) / 2, z)) out.length = n - 6;
       }
     }
-    const geometry = new THREE.BufferGeometry();
-    geometry.setAttribute('position', new THREE.BufferAttribute(Float32Array.from(out), 3));
-    const material = new THREE.LineBasicMaterial({ color: 0x111111, transparent: true, opacity: 0.55 });
-    return new THREE.LineSegments(geometry, material);
+    return Float32Array.from(out);
   }
 
   // A translucent slab showing the layer the plot's pointer is on.
@@ -176,6 +203,18 @@ export class SaliencyViewer {
     this.renderer.dispose();
     this.renderer = null;
   }
+}
+
+// Whether (x, y) is inside the polygon [[x, y], …] (an empty one is the whole section).
+function inside(polygon, x, y) {
+  if (!polygon || !polygon.length) return true;
+  let within = false;
+  for (let i = 0, j = polygon.length - 1; i < polygon.length; j = i++) {
+    const [xi, yi] = polygon[i];
+    const [xj, yj] = polygon[j];
+    if (yi > y !== yj > y && x < ((xj - xi) * (y - yi)) / (yj - yi) + xi) within = !within;
+  }
+  return within;
 }
 
 function lowerBound(sorted, value) {

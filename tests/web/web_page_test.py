@@ -3,7 +3,9 @@
 salientd with a simulated printer on a free loopback port, as a person would use it: a wrong key
 refused with the API's words, sign in, drop the bunny on the page, watch its job reach `done`
 live, see the 3D saliency view draw (its pixels sampled) and the plan plot answer the pointer,
-print it on the simulator, see progress and temperatures move, pause, resume, cancel.
+print it on the simulator, see progress and temperatures move, pause, resume, cancel; download
+the G-code, send a console command, set a target; the page in dark mode; a SegOpt job picked with
+the file chooser, its regions coloured; delete.
 
 It measures the page load with the bunny's job open (Navigation Timing, cold cache) and how long
 events take from the daemon to the DOM, prints both, and writes screenshots of each page at phone
@@ -14,6 +16,7 @@ Exit status 0: passed; 1: failed; 77: skipped (no Chromium, chromedriver or Sele
 """
 import base64
 import json
+import math
 import os
 import re
 import shutil
@@ -341,6 +344,52 @@ def terminal_and_targets(page):
     log(f"terminal: M105 sent; target set: {page.text('#temp-now')!r}")
 
 
+def half_salient_sphere(path):
+    """A sphere whose -x half is salient (painted as vertex quality): SegOpt cuts it (BENCHMARKS,
+    Step 7), so its page draws each region's layers in their colour."""
+    lat, lon, r = 60, 120, 20.0
+    vertices = []
+    for i in range(lat + 1):
+        theta = math.pi * i / lat
+        for j in range(lon):
+            phi = 2 * math.pi * j / lon
+            x, y, z = r * math.sin(theta) * math.cos(phi), r * math.sin(theta) * math.sin(phi), r * math.cos(theta)
+            vertices.append(f"{x:.5f} {y:.5f} {z:.5f} {1.0 if x < 0 else 0.0}")
+    at = lambda i, j: i * lon + j % lon
+    faces = []
+    for i in range(lat):
+        for j in range(lon):
+            if i > 0:
+                faces.append(f"3 {at(i, j)} {at(i + 1, j)} {at(i, j + 1)}")
+            if i < lat - 1:
+                faces.append(f"3 {at(i, j + 1)} {at(i + 1, j)} {at(i + 1, j + 1)}")
+    with open(path, "w") as f:
+        f.write(f"ply\nformat ascii 1.0\nelement vertex {len(vertices)}\nproperty float x\nproperty float y\n"
+                f"property float z\nproperty float quality\nelement face {len(faces)}\n"
+                "property list uchar int vertex_indices\nend_header\n")
+        f.write("\n".join(vertices + faces) + "\n")
+
+
+def segopt_regions(page, work):
+    """A SegOpt job's page: the cut, and the layer boundaries in each region's colour."""
+    model = os.path.join(work, "half-salient-sphere.ply")
+    half_salient_sphere(model)
+    page.d.get(page.daemon.base + "/#/jobs")
+    page.wait("the jobs page", lambda: page.find("#drop-zone"))
+    page.find("#model-file").send_keys(model)  # the file picker, this time
+    page.js("document.getElementById('s-saliency').value = 'painted'")
+    page.find("#s-height").send_keys("40")
+    page.find("#s-segment").click()
+    page.click("#submit-job")
+    page.wait("the SegOpt job done", lambda: page.find(".job-head .badge.state-done"), 60)
+    page.wait("its 3D view", lambda: page.js(
+        "const c = document.getElementById('saliency-view'); return c && Number(c.dataset.frames) > 0"), 30)
+    check(page.text("#fig-segopt").startswith("SegOpt\ncut"), f"SegOpt did not cut: {page.text('#fig-segopt')!r}")
+    check("a colour per region" in page.text(".legend"), f"legend: {page.text('.legend')!r}")
+    page.screenshot("job-segopt")
+    log(f"SegOpt job: {page.text('#fig-segopt')!r}")
+
+
 def delete_job(page, job):
     page.d.get(f"{page.daemon.base}/#/jobs/{job}")
     page.click("#delete-job")
@@ -470,6 +519,7 @@ def main():
         page.wait("the job list", lambda: page.find(f"#job-list [data-id='{job}']"))
         page.screenshot("jobs")
         dark_mode(page, job)
+        segopt_regions(page, work)
         delete_job(page, job)
         errors = page.console_errors()
         check(not errors, f"the browser's console has errors: {errors}")
