@@ -84,7 +84,7 @@ function summary(j) {
     'dl',
     { class: 'figures', id: 'job-result' },
     fig('Layers', String(r.layers), `finest ${r.finest_layers}, uniform ${t.default_layers ?? '–'}`, 'fig-layers'),
-    fig('Estimated time', minutes(t.plan_s ?? r.print_seconds), r.printer, 'fig-time'),
+    fig('Estimated time', minutes(r.print_seconds), `${r.printer}, from the G-code`, 'fig-time'),
     fig('Saved vs finest', saving(t.saving_vs_fine_s, t.saving_vs_fine_percent), `uniform ${t.fine_layers ?? '–'} layers at α`, 'fig-fine'),
     fig(
       'Saved vs uniform',

@@ -1,7 +1,7 @@
 // #/jobs: a model dropped (or picked) with its settings becomes a job; the list shows every job
 // with its phase and progress as the events report them.
 import { api } from './api.js';
-import { h, fill, toast, badge, progressBar, when, percent, minutes } from './dom.js';
+import { h, fill, toast, badge, progressBar, when, percent, minutes, signed } from './dom.js';
 
 const PROFILES = ['generic-i3', 'ender3', 'replicator2x'];
 const MODEL_TYPES = '.stl,.obj,.ply,.off';
@@ -36,7 +36,7 @@ function jobRow(job) {
   const detail =
     job.state === 'done' && r
       ? `${r.layers} layers · ${minutes(r.print_seconds)}` +
-        (r.times ? ` · ${percent(r.times.saving_vs_default_percent / 100)} vs uniform` : '')
+        (r.times ? ` · saves ${signed(r.times.saving_vs_default_percent, 0)} % vs uniform` : '')
       : job.state === 'failed'
         ? job.error || 'failed'
         : `${job.phase === 'none' ? 'waiting' : job.phase} · ${percent(job.progress)}`;
@@ -146,7 +146,7 @@ function settingsForm(profiles) {
   );
   const segment = h('input', { id: 's-segment', type: 'checkbox' });
   const support = h('input', { id: 's-support', type: 'checkbox' });
-  const fields = h(
+  const grid = h(
     'div',
     { class: 'settings' },
     field('Printer profile', printer),
@@ -160,6 +160,13 @@ function settingsForm(profiles) {
       h('label', {}, segment, ' SegOpt: cut where it saves time'),
       h('label', {}, support, ' Support under overhangs'),
     ),
+  );
+  // On a phone the settings fold away (the defaults serve), so the job list shows beneath.
+  const fields = h(
+    'details',
+    { class: 'settings-box', open: window.matchMedia('(min-width: 600px)').matches },
+    h('summary', {}, 'Settings'),
+    grid,
   );
   const settings = () => {
     const s = { printer: printer.value, up: up.value, saliency: saliency.value };
