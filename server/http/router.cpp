@@ -42,6 +42,13 @@ void Router::add(std::string method, std::string pattern, Access access, Handler
   routes_.push_back({std::move(method), std::move(pattern), access, std::move(handler), std::move(name)});
 }
 
+namespace {
+// HEAD is GET without the body (RFC 9110 §9.3.2): the session leaves the body out.
+bool serves(const Route& route, const std::string& method) {
+  return route.method == method || (method == "HEAD" && route.method == "GET");
+}
+}  // namespace
+
 bool match_pattern(const std::string& pattern, const std::string& path, PathParams& params) {
   params.clear();
   std::size_t p = 0, s = 0;
@@ -67,7 +74,7 @@ std::optional<HttpResponse> Router::refusal(const HttpRequest& request, std::str
   PathParams params;
   for (const Route& route : routes_) {
     if (!match_pattern(route.pattern, request.path, params)) continue;
-    if (route.method != request.method) {
+    if (!serves(route, request.method)) {
       allowed += (allowed.empty() ? "" : ", ") + route.method;
       continue;
     }
@@ -93,7 +100,7 @@ HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_nam
   if (auto refused = refusal(request, route_name)) return *refused;
   PathParams params;
   for (const Route& route : routes_) {
-    if (route.method != request.method || !match_pattern(route.pattern, request.path, params)) continue;
+    if (!serves(route, request.method) || !match_pattern(route.pattern, request.path, params)) continue;
     try {
       return route.handler(request, params);
     } catch (const ApiError& e) {

@@ -72,3 +72,19 @@ TEST_CASE("targets: percent-decoding and query parameters") {
   CHECK_FALSE(split_target("/bad%zz", path, query));
   CHECK_FALSE(split_target("/bad%2", path, query));
 }
+
+TEST_CASE("HEAD is served wherever GET is, and only there") {
+  Router router;
+  router.add("GET", "/", Access::open,
+             [](const HttpRequest&, const PathParams&) { return HttpResponse::text(200, "page"); });
+  router.add("POST", "/api/v1/jobs", Access::key,
+             [](const HttpRequest&, const PathParams&) { return HttpResponse::text(201, "made"); });
+  std::string route;
+  const HttpResponse head = router.dispatch(request("HEAD", "/"), &route);
+  CHECK(head.status == 200);  // the session writes its headers and Content-Length, not its body
+  CHECK(route == "/");
+  const HttpResponse post = router.dispatch(request("HEAD", "/api/v1/jobs"));
+  CHECK(post.status == 405);
+  REQUIRE(post.headers.size() == 1);
+  CHECK(post.headers[0].second == "POST");
+}
