@@ -207,8 +207,7 @@ std::vector<Vec3> base_directions(const Mesh& mesh, const CandidateOptions& o) {
       const Vec3 up = r.normal * -1.0;
       double lowest = INFINITY;
       for (const Vec3& p : mesh.positions) lowest = std::min(lowest, dot(p, up));
-      if (dot(r.centroid, up) - lowest <= flat && projects_inside(m, r, mass))
-        bases.emplace_back(r.area, up);
+      if (dot(r.centroid, up) - lowest <= flat && projects_inside(m, r, mass)) bases.emplace_back(r.area, up);
     }
   };
   offer(mesh, planar_regions(mesh, flat_angle, flat), surface_area(mesh));
