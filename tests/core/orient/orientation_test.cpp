@@ -188,7 +188,7 @@ TEST_CASE(
   }
 }
 
-TEST_CASE("bases: a box's six faces; none on a sphere; none a model would topple off") {
+TEST_CASE("bases: a box's six faces, none on a sphere, none a model would topple off") {
   CandidateOptions o;
   o.max_bases = 6;
   const std::vector<Vec3> box = base_directions(salient::test::box(10, 20, 30), o);

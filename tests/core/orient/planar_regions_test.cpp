@@ -35,7 +35,7 @@ TEST_CASE("a block's flat bottom is one region, its curved top is not one") {
   for (std::size_t i = 1; i < regions.size(); ++i) CHECK(regions[i].area < 0.5 * 1800);
 }
 
-TEST_CASE("a sphere has no large planar region; a fold is not flat") {
+TEST_CASE("a sphere has no large planar region, and a fold is not flat") {
   Mesh sphere = salient::test::uv_sphere(48, 96);
   for (Vec3& p : sphere.positions) p = p * 40;
   const auto regions = planar_regions(sphere, 10 * M_PI / 180, 0.2);
