@@ -24,6 +24,9 @@ build_packages=(
   gpx
   # `make format-check`, which CI runs: the one formatter version the tree is written with
   clang-format
+  # the web page's libraries, served by salientd from /usr/share/javascript (WebGL, charts), and
+  # the browser tests: headless Chromium driven by Selenium
+  libjs-three libjs-chart.js chromium chromium-driver python3-selenium
 )
 peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 

@@ -145,6 +145,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_octoprint_routes(router, store, printers, config);
   add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());
   add_event_route(router);
+  add_web_routes(router, config);
   http.websocket = events_endpoint(hub, keys);
   HttpServer server(http, router);
   const unsigned short port = server.start();

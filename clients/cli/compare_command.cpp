@@ -196,7 +196,8 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
       core::PlanRequest base = setup->request({});
       base.goal = core::PlanGoal::layers;  // Table 1 compares layer counts: exact as the fewest layers
       const std::string name = std::filesystem::path(o->plan.mesh.model).filename().string();
-      const std::string metric(core::to_string(o->plan.metric)), saliency(core::to_string(o->plan.saliency));
+      const std::string metric(core::to_string(o->plan.metric)),
+          saliency(core::to_string(core::saliency_method(o->plan)));  // a saliency file's is painted
       if (!o->plan_file.empty())
         return compare_plan_file(*setup, base, o->plan_file, name, o->json, metric, saliency);
       core::Comparison c = core::compare_planners(base, setup->rho, core::planner_names());
@@ -209,7 +210,7 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
           trace.push_back({{"step", s.step}, {"layers", s.layers}, {"E", s.error}});
         const nlohmann::json j = {{"model", name},
                                   {"metric", std::string(core::to_string(o->plan.metric))},
-                                  {"saliency", std::string(core::to_string(o->plan.saliency))},
+                                  {"saliency", saliency},
                                   {"rho", c.rho},
                                   {"epsilon", c.epsilon},
                                   {"reference_layers", c.reference_layers},
@@ -221,11 +222,9 @@ void add_compare_command(CLI::App& app, CommandAction& action) {
         std::printf("%s\n", j.dump(2).c_str());
         return 0;
       }
-      std::printf(
-          "%s: %s metric, %s saliency, rho %.3g; exact needs %d layers (fine %d, coarse %d), RSMD %.4f\n",
-          name.c_str(), std::string(core::to_string(o->plan.metric)).c_str(),
-          std::string(core::to_string(o->plan.saliency)).c_str(), c.rho, c.reference_layers, c.fine_layers,
-          c.coarse_layers, c.reference_rsmd);
+      std::printf("%s: %s metric, %s, rho %.3g; exact needs %d layers (fine %d, coarse %d), RSMD %.4f\n",
+                  name.c_str(), metric.c_str(), core::saliency_text(o->plan).c_str(), c.rho,
+                  c.reference_layers, c.fine_layers, c.coarse_layers, c.reference_rsmd);
       print_rows(c);
       std::printf("adapslice trace:");
       for (const auto& s : c.adapslice_trace)

@@ -62,10 +62,9 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
     std::fputs(text.c_str(), stdout);
     return 0;
   }
-  std::printf("%s: %s planner with SegOpt, %s metric, %s saliency\n", name.c_str(),
+  std::printf("%s: %s planner with SegOpt, %s metric, %s\n", name.c_str(),
               std::string(core::to_string(o.plan.planner)).c_str(),
-              std::string(core::to_string(o.plan.metric)).c_str(),
-              std::string(core::to_string(o.plan.saliency)).c_str());
+              std::string(core::to_string(o.plan.metric)).c_str(), core::saliency_text(o.plan).c_str());
   std::printf("  layers   %zu printed heights (fine %d)\n  time     %.3f s\n", heights.size(),
               p.most_layers(), seconds);
   if (plan.times)
@@ -123,10 +122,9 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
         std::fputs(text.c_str(), stdout);
         return 0;
       }
-      std::printf("%s: %s planner, %s metric, %s saliency\n", name.c_str(),
+      std::printf("%s: %s planner, %s metric, %s\n", name.c_str(),
                   std::string(core::to_string(o->plan.planner)).c_str(),
-                  std::string(core::to_string(o->plan.metric)).c_str(),
-                  std::string(core::to_string(o->plan.saliency)).c_str());
+                  std::string(core::to_string(o->plan.metric)).c_str(), core::saliency_text(o->plan).c_str());
       std::printf("  layers   %d (fine %d, coarse %d): %.1f%% fewer than fine\n", result.plan.layer_count(),
                   p.most_layers(), p.fewest_layers(),
                   100.0 * (1 - double(result.plan.layer_count()) / p.most_layers()));

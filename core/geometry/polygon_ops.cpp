@@ -49,6 +49,29 @@ ClipperLib::Paths execute(ClipperLib::ClipType type, const Polygons& a, const Po
   return solution;
 }
 
+// The result as contours with their holes (Clipper's PolyTree).
+std::vector<ExPolygon> execute_ex(ClipperLib::ClipType type, const Polygons& a, const Polygons* b) {
+  ClipperLib::Clipper clipper;
+  clipper.AddPaths(to_paths(a), ClipperLib::ptSubject, true);
+  if (b) clipper.AddPaths(to_paths(*b), ClipperLib::ptClip, true);
+  ClipperLib::PolyTree tree;
+  clipper.Execute(type, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+  std::vector<ExPolygon> out;
+  // Outer nodes at even depth, their holes as children; islands inside holes recurse.
+  std::vector<const ClipperLib::PolyNode*> stack(tree.Childs.begin(), tree.Childs.end());
+  while (!stack.empty()) {
+    const ClipperLib::PolyNode* outer = stack.back();
+    stack.pop_back();
+    ExPolygon ex{to_polygon(outer->Contour), {}};
+    for (const ClipperLib::PolyNode* hole : outer->Childs) {
+      ex.holes.push_back(to_polygon(hole->Contour));
+      for (const ClipperLib::PolyNode* island : hole->Childs) stack.push_back(island);
+    }
+    out.push_back(std::move(ex));
+  }
+  return out;
+}
+
 double area_of(const ClipperLib::Paths& paths) {
   double a = 0;
   for (const ClipperLib::Path& p : paths) a += ClipperLib::Area(p);
@@ -80,24 +103,11 @@ Polygons difference_of(const Polygons& a, const Polygons& b) {
 }
 
 std::vector<ExPolygon> union_ex(const Polygons& polygons) {
-  ClipperLib::Clipper clipper;
-  clipper.AddPaths(to_paths(polygons), ClipperLib::ptSubject, true);
-  ClipperLib::PolyTree tree;
-  clipper.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
-  std::vector<ExPolygon> out;
-  // Outer nodes at even depth, their holes as children; islands inside holes recurse.
-  std::vector<const ClipperLib::PolyNode*> stack(tree.Childs.begin(), tree.Childs.end());
-  while (!stack.empty()) {
-    const ClipperLib::PolyNode* outer = stack.back();
-    stack.pop_back();
-    ExPolygon ex{to_polygon(outer->Contour), {}};
-    for (const ClipperLib::PolyNode* hole : outer->Childs) {
-      ex.holes.push_back(to_polygon(hole->Contour));
-      for (const ClipperLib::PolyNode* island : hole->Childs) stack.push_back(island);
-    }
-    out.push_back(std::move(ex));
-  }
-  return out;
+  return execute_ex(ClipperLib::ctUnion, polygons, nullptr);
+}
+
+std::vector<ExPolygon> difference_ex(const Polygons& a, const Polygons& b) {
+  return execute_ex(ClipperLib::ctDifference, a, &b);
 }
 
 Polygons offset(const Polygons& polygons, double delta) {

@@ -21,6 +21,7 @@ Polygons union_of(const Polygons& polygons);
 Polygons intersection_of(const Polygons& a, const Polygons& b);
 Polygons difference_of(const Polygons& a, const Polygons& b);
 std::vector<ExPolygon> union_ex(const Polygons& polygons);
+std::vector<ExPolygon> difference_ex(const Polygons& a, const Polygons& b);
 
 // Grows (delta > 0) or shrinks (delta < 0) the area by |delta| mm, mitred corners (limit 3).
 Polygons offset(const Polygons& polygons, double delta);

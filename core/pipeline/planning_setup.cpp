@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 
 #include "core/common/input_error.hpp"
 #include "core/saliency/saliency.hpp"
@@ -32,7 +33,7 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   check_plan_options(o);  // before loading: a bad option should not wait for a big model
   const SlicingParams params{o.min_layer, o.max_layer, o.grid};
   const Metric metric = o.metric;
-  const SaliencyMethod method = o.saliency_file.empty() ? o.saliency : SaliencyMethod::painted;
+  const SaliencyMethod method = saliency_method(o);
 
   auto s = std::make_unique<PlanningSetup>();
   run.report("load", 0);
@@ -55,6 +56,16 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   s->rho = o.rho.value_or(0.05);
   s->seed = o.seed;
   return s;
+}
+
+SaliencyMethod saliency_method(const PlanOptions& o) {
+  return o.saliency_file.empty() ? o.saliency : SaliencyMethod::painted;
+}
+
+std::string saliency_text(const PlanOptions& o) {
+  const std::string method(to_string(saliency_method(o)));
+  if (o.saliency_file.empty()) return method + " saliency";
+  return method + " saliency from " + std::filesystem::path(o.saliency_file).filename().string();
 }
 
 PlanTarget target_of(const PlanOptions& o, const PlanningSetup& s) {

@@ -63,6 +63,11 @@ void check_plan_options(const PlanOptions& options);
 // Reports the phases load, saliency and profile through `run`, and stops when it is cancelled.
 std::unique_ptr<PlanningSetup> prepare(const PlanOptions& options, const RunContext& run = {});
 
+// The saliency the options give: a saliency file's is painted, whatever `saliency` says.
+SaliencyMethod saliency_method(const PlanOptions& options);
+// The same as reports name it: "spectral saliency", or "painted saliency from FILE" (its name).
+std::string saliency_text(const PlanOptions& options);
+
 // The target the options ask for (ρ by default; a count from --layers or --layer-height).
 PlanTarget target_of(const PlanOptions& options, const PlanningSetup& setup);
 

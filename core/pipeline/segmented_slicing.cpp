@@ -21,6 +21,7 @@ std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& w
                                              const std::vector<PlanRegion>& regions,
                                              const RegionSliceSettings& s, const RunContext& run) {
   std::vector<LayerToolpaths> layers;
+  std::vector<PartSlab> part;  // with several regions: each one's own layers, for support
   if (regions.size() == 1 && regions[0].side < 0 && regions[0].first_cell == 0) {
     layers = generate_toolpaths(mesh, heights_of(whole, regions[0]), s.toolpaths, run);
   } else {
@@ -29,6 +30,10 @@ std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& w
       ToolpathSettings own = s.toolpaths;
       if (!region.clip.empty()) own.clip = {region.clip};
       each.push_back(generate_region_toolpaths(mesh, heights_of(whole, region), whole.height(), own, run));
+      if (s.support) {
+        const std::vector<PartSlab> own_part = part_slabs(each.back());
+        part.insert(part.end(), own_part.begin(), own_part.end());
+      }
     }
     layers = merge_by_print_height(each);
     add_skirt(layers, s.toolpaths);
@@ -36,7 +41,10 @@ std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& w
   if (s.support) {
     SupportSettings support = s.support_settings;
     support.line_width = s.toolpaths.line_width;
-    add_support(layers, support, run);
+    if (part.empty())
+      add_support(layers, support, run);
+    else
+      add_support(layers, part, support, run);
   }
   return layers;
 }

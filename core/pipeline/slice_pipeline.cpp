@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include "core/common/input_error.hpp"
 #include "core/export/three_mf.hpp"
@@ -17,6 +18,15 @@
 #include "core/slicing/plan_svg.hpp"
 
 namespace salient::core {
+namespace {
+
+std::string mm(double v) {
+  std::ostringstream s;
+  s << v << " mm";
+  return s.str();
+}
+
+}  // namespace
 
 void check_slice_settings(const SliceSettings& s, const PrinterProfile& printer) {
   PlanOptions plan = s.plan;
@@ -24,6 +34,13 @@ void check_slice_settings(const SliceSettings& s, const PrinterProfile& printer)
   if (s.max_layer_from_printer) plan.max_layer = printer.max_layer;
   if (!(s.toolpaths.line_width > 0)) throw InputError(SettingId::line_width, "must be positive");
   check_plan_options(plan);
+  // The profile's thickest layer is what its nozzle prints; a thicker one asked for would be
+  // planned and printed without a word.
+  if (plan.max_layer > printer.max_layer + 1e-9)
+    throw InputError(SettingId::max_layer, mm(plan.max_layer) + " is above the thickest layer " + printer.id +
+                                               " prints: its profile's layers.max is " +
+                                               mm(printer.max_layer) + " (" + mm(printer.nozzle_diameter) +
+                                               " nozzle)");
 }
 
 RegionSliceSettings region_slice_settings(const SliceSettings& s, const PrinterProfile& printer) {
@@ -158,12 +175,12 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.layers = static_cast<int>(out.z.size());
   out.finest_layers = p.most_layers();
   GcodeSettings gs;
-  gs.summary = {
-      "model = " + out.model_name,
-      "planner = " + std::string(to_string(plan.planner)) + ", metric " +
-          std::string(to_string(plan.metric)) + ", saliency " + std::string(to_string(plan.saliency)),
-      "plan = " + std::to_string(out.layers) + " layers (finest " + std::to_string(out.finest_layers) +
-          "), E " + std::to_string(out.error) + ", RSMD " + std::to_string(out.rsmd)};
+  gs.summary = {"model = " + out.model_name,
+                "planner = " + std::string(to_string(plan.planner)) + ", metric " +
+                    std::string(to_string(plan.metric)) + ", " + saliency_text(plan),
+                "plan = " + std::to_string(out.layers) + " layers (finest " +
+                    std::to_string(out.finest_layers) + "), E " + std::to_string(out.error) + ", RSMD " +
+                    std::to_string(out.rsmd)};
   if (out.segmentation) gs.summary.push_back("segmentation = " + out.segmentation->note);
   GcodeResult g = write_gcode(toolpaths, printer, gs);
   out.gcode = std::move(g.text);

@@ -1,6 +1,7 @@
-// simplify_mesh: one of the two files that include CGAL (with surface_locator.cpp). Our mesh
-// goes in as a polygon soup, is oriented and made manifold by CGAL's soup repair, collapsed with
-// Garland–Heckbert plane quadrics, and comes back compacted.
+// simplify_mesh and working_mesh: one of the two files that include CGAL (with
+// surface_locator.cpp). Our mesh goes in as a polygon soup, is oriented and made manifold by
+// CGAL's soup repair, collapsed with Garland–Heckbert plane quadrics, optionally remeshed to
+// near-equilateral triangles, and comes back compacted.
 #include "core/saliency/mesh_simplifier.hpp"
 
 // GCC 12 reports a false -Wmaybe-uninitialized inside Eigen's fixed 4x4 matrices that CGAL's
@@ -10,12 +11,14 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
+#include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Surface_mesh.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -75,15 +78,7 @@ bool already_oriented_manifold(const Mesh& mesh) {
   return true;
 }
 
-}  // namespace
-
-Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices) {
-  if (mesh.vertex_count() <= target_vertices) {
-    Mesh copy;
-    copy.positions = mesh.positions;
-    copy.triangles = mesh.triangles;
-    return copy;
-  }
+SurfaceMesh surface_of(const Mesh& mesh) {
   std::vector<Point> points;
   points.reserve(mesh.vertex_count());
   for (const Vec3& p : mesh.positions) points.emplace_back(p.x, p.y, p.z);
@@ -94,7 +89,10 @@ Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices) {
   if (!already_oriented_manifold(mesh)) PMP::orient_polygon_soup(points, polygons);
   SurfaceMesh sm;
   PMP::polygon_soup_to_polygon_mesh(points, polygons, sm);
+  return sm;
+}
 
+void collapse(SurfaceMesh& sm, std::size_t target_vertices) {
   // Each collapse removes one vertex and three edges; stop at the edge count of the target.
   const std::size_t remove =
       sm.number_of_vertices() > target_vertices ? sm.number_of_vertices() - target_vertices : 0;
@@ -104,7 +102,9 @@ Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices) {
   SMS::edge_collapse(sm, stop,
                      CGAL::parameters::get_cost(policies.get_cost()).get_placement(policies.get_placement()));
   sm.collect_garbage();
+}
 
+Mesh mesh_of(const SurfaceMesh& sm) {
   Mesh out;
   out.positions.reserve(sm.number_of_vertices());
   for (SurfaceMesh::Vertex_index v : sm.vertices()) {
@@ -122,6 +122,39 @@ Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices) {
     if (k == 3) out.triangles.push_back(t);
   }
   return out;
+}
+
+}  // namespace
+
+Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices) {
+  if (mesh.vertex_count() <= target_vertices) {
+    Mesh copy;
+    copy.positions = mesh.positions;
+    copy.triangles = mesh.triangles;
+    return copy;
+  }
+  SurfaceMesh sm = surface_of(mesh);
+  collapse(sm, target_vertices);
+  return mesh_of(sm);
+}
+
+Mesh working_mesh(const Mesh& mesh, std::size_t target_vertices) {
+  if (mesh.triangle_count() < 4) return simplify_mesh(mesh, target_vertices);
+  SurfaceMesh sm = surface_of(mesh);
+  if (sm.number_of_vertices() > target_vertices) collapse(sm, target_vertices);
+  // Quadric collapse keeps thin slivers where they fit the surface best; 1/d² weights would turn
+  // them into hot spots. Isotropic remeshing at the mean edge length (split above 4/3 of it,
+  // collapse below 4/5, flips towards valence 6, tangential relaxation) keeps about the vertex
+  // count and the shape, and leaves every edge near that length.
+  double total = 0;
+  for (SurfaceMesh::Edge_index e : sm.edges())
+    total += std::sqrt(CGAL::squared_distance(sm.point(sm.vertex(e, 0)), sm.point(sm.vertex(e, 1))));
+  const double target_length = total / std::max<std::size_t>(1, sm.number_of_edges());
+  if (target_length > 0) {
+    PMP::isotropic_remeshing(faces(sm), target_length, sm, CGAL::parameters::number_of_iterations(3));
+    sm.collect_garbage();
+  }
+  return mesh_of(sm);
 }
 
 }  // namespace salient::core

@@ -5,7 +5,7 @@
 //     the whole spectrum, so a partial solver such as Spectra does not apply); λ0 := λ1;
 //  4. ℒ(f) = log|λf|, R(f) = |ℒ(f) − (J9 ∗ ℒ)(f)| (centred width-9 mean, replicate padding);
 //  5. S(i,j) = Σf B(i,f)·e^R(f)·B(j,f) on edges only, si = Σj∈N(i) |S(i,j)·W(i,j)|;
-//  6. five scales tj = j·ε², ε = 0.002·diagonal: s′(i,t) = |s_M(k·t)(i) − s_M(t)(i)| where M(t)
+//  6. five scales tj = j·ε², ε = 0.7·c (below): s′(i,t) = |s_M(k·t)(i) − s_M(t)(i)| where M(t)
 //     Gaussian-smooths positions (variance t, radius 2.5√t) and M(k·t) uses the per-vertex
 //     factor k(i) = 1 + c·|N(i)| / Σj∈N(i)‖pi − pj‖ (c the mean edge length); summed;
 //  7. mapped to the original vertices through the closest point on M′;
@@ -17,7 +17,14 @@
 // Where we differ: with W = 1/d² the raw si carry the local edge density (a short edge of the
 // simplified mesh can weigh a thousand times the rest), so the scales are compared as
 // s′(i,t) = |log s_M(k·t)(i) − log s_M(t)(i)| — a relative change, free of that density — and
-// min–max scaling (per scale, and of the result) clips at the 99th percentile first.
+// min–max scaling (per scale, and of the result) clips at the 1st and 99th percentiles first.
+// Also ours: the paper's ε = 0.002·diagonal is set for a full-resolution mesh; on a ~1,000-vertex
+// M′ (mean edge c ≈ 0.03·diagonal) its largest smoothing radius, 2.5·√(5·k)·ε ≈ 0.016·diagonal,
+// reaches no neighbour, the scale space does nothing, and maps came out as patches the shape of
+// M′'s triangles. ε = 0.7·c makes the five radii span one to three rings of M′ (0.7 chosen over
+// 0.3–1.0 by the maps' stability under remeshing the input and their look, BENCHMARKS.md). And
+// M′ is remeshed isotropically after the collapse (mesh_simplifier.hpp): a sliver of the
+// collapse, 1/d² weighing it a thousand times its neighbours, made a hot spot wherever it fell.
 #include "core/saliency/spectral_saliency.hpp"
 
 #include <lapacke.h>
@@ -41,6 +48,9 @@ extern "C" void openblas_set_num_threads(int threads);
 
 namespace salient::core {
 namespace {
+
+// The scale-space unit ε as a share of M′'s mean edge length c (see the opening comment).
+constexpr double kScaleOverEdge = 0.7;
 
 // Positions Gaussian-smoothed with per-vertex variance t·k(i) over Euclidean neighbours within
 // 2.5 standard deviations.
@@ -98,12 +108,16 @@ Mesh canonical_copy(const Mesh& mesh) {
   return out;
 }
 
-std::vector<double> scale_factors(const Mesh& mesh, const VertexAdjacency& adj) {
+double mean_edge(const Mesh& mesh, const VertexAdjacency& adj) {
   double total = 0;
   std::size_t edges = 0;
   for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
     for (std::uint32_t j : adj.neighbours(i)) total += norm(mesh.positions[j] - mesh.positions[i]), ++edges;
-  const double c = edges ? total / edges : 0;
+  return edges ? total / edges : 0;
+}
+
+std::vector<double> scale_factors(const Mesh& mesh, const VertexAdjacency& adj) {
+  const double c = mean_edge(mesh, adj);
   std::vector<double> k(mesh.vertex_count(), 1);
   for (std::size_t i = 0; i < k.size(); ++i) {
     double sum = 0;
@@ -113,15 +127,17 @@ std::vector<double> scale_factors(const Mesh& mesh, const VertexAdjacency& adj) 
   return k;
 }
 
-// Scales to [0, 1] between the minimum and the 99th percentile (values above it become 1).
+// Scales to [0, 1] between the 1st and the 99th percentile (values outside are clipped): one
+// outlier at either end must not squash the rest of the map into one colour.
 std::vector<double> normalised(std::vector<double> v) {
   if (v.empty()) return v;
   std::vector<double> sorted = v;
-  const std::size_t p99 = (sorted.size() - 1) * 99 / 100;
+  const std::size_t p1 = (sorted.size() - 1) / 100, p99 = (sorted.size() - 1) * 99 / 100;
   std::nth_element(sorted.begin(), sorted.begin() + p99, sorted.end());
   const double b = sorted[p99];
-  const double a = *std::min_element(v.begin(), v.end());
-  for (double& x : v) x = b > a ? std::min(1.0, (x - a) / (b - a)) : 0.0;
+  std::nth_element(sorted.begin(), sorted.begin() + p1, sorted.begin() + p99);
+  const double a = sorted[p1];
+  for (double& x : v) x = b > a ? std::clamp((x - a) / (b - a), 0.0, 1.0) : 0.0;
   return v;
 }
 
@@ -226,13 +242,13 @@ std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& o
   run.report("saliency", 0.0);
   run.check();
   const Mesh mesh = canonical_copy(input);
-  const Mesh work = simplify_mesh(mesh, options.working_vertices);
+  const Mesh work = working_mesh(mesh, options.working_vertices);
   run.check();
   run.report("saliency", 0.1);
   const VertexAdjacency adj(work);
   const std::vector<double> k = scale_factors(work, adj);
   const std::vector<double> ones(work.vertex_count(), 1.0);
-  const double eps = 0.002 * bounding_box(work).diagonal();
+  const double eps = kScaleOverEdge * mean_edge(work, adj);
   const PointGrid grid(work.positions, 2.5 * std::sqrt(5 * 2.5) * eps);
   // Ten meshes, M(t) and M(k·t) at five scales; their spectra are independent: in parallel, one
   // decomposition per TBB thread. OpenBLAS's own threads inside would oversubscribe the cores and

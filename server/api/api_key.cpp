@@ -55,6 +55,10 @@ bool ApiKeys::valid(const HttpRequest& request) const {
   if (key.empty()) {
     if (const auto it = request.query.find("apikey"); it != request.query.end()) key = it->second;
   }
+  return valid_key(key);
+}
+
+bool ApiKeys::valid_key(std::string_view key) const {
   if (key.empty() || key.size() > 256) return false;
   const std::string digest = sha256_hex(key);
   return std::find(digests_.begin(), digests_.end(), digest) != digests_.end();

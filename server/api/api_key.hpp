@@ -23,6 +23,7 @@ class ApiKeys {
   // X-Api-Key: KEY, Authorization: Bearer KEY, or ?apikey=KEY (as OctoPrint; for browsers'
   // WebSockets, which cannot set headers).
   bool valid(const HttpRequest& request) const;
+  bool valid_key(std::string_view key) const;
 
  private:
   std::vector<std::string> digests_;

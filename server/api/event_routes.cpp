@@ -13,13 +13,45 @@
 
 namespace salient::server {
 
+namespace {
+
+// A browser's WebSocket cannot send headers, and a key in the URL would land in proxies' logs: the
+// page offers the key as a subprotocol, "salient-key.KEY", beside "salient.v1". The answer names
+// the plain one, so the key is not even echoed back.
+struct OfferedProtocols {
+  std::string key;     // from "salient-key.KEY"; empty: none offered
+  std::string chosen;  // what the handshake answers with; empty: nothing was offered
+};
+
+OfferedProtocols offered_protocols(const HttpRequest& r) {
+  static constexpr std::string_view kKeyPrefix = "salient-key.";
+  OfferedProtocols out;
+  std::string first_plain, key_protocol;
+  std::stringstream list(r.header("sec-websocket-protocol"));
+  for (std::string p; std::getline(list, p, ',');) {
+    p.erase(0, p.find_first_not_of(" \t"));
+    p.erase(p.find_last_not_of(" \t") + 1);
+    if (p.rfind(kKeyPrefix, 0) == 0) {
+      if (out.key.empty()) out.key = p.substr(kKeyPrefix.size()), key_protocol = p;
+    } else if (!p.empty() && first_plain.empty()) {
+      first_plain = p;
+    }
+  }
+  out.chosen = !first_plain.empty() ? first_plain : key_protocol;
+  return out;
+}
+
+}  // namespace
+
 WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
   return [&hub, &keys](const HttpRequest& r) -> WebSocketAccept {
     if (r.path != "/api/v1/events")
       return {nullptr, error_response(404, "not_found", "no WebSocket at " + r.path)};
-    if (!keys.valid(r))
+    const OfferedProtocols offered = offered_protocols(r);
+    if (!keys.valid(r) && !keys.valid_key(offered.key))
       return {nullptr, error_response(401, "unauthorized",
-                                      "send the API key (X-Api-Key, Authorization: Bearer, or ?apikey=)")};
+                                      "send the API key (X-Api-Key, Authorization: Bearer, the subprotocol "
+                                      "salient-key.KEY, or ?apikey=)")};
     auto subscription = hub.subscribe();
     // ?topics=jobs,printer/sim subscribes at once (a client may also send {"subscribe": […]}).
     if (const auto it = r.query.find("topics"); it != r.query.end()) {
@@ -33,7 +65,7 @@ WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
         }
       }
     }
-    return {subscription, {}};
+    return {subscription, {}, offered.chosen};
   };
 }
 

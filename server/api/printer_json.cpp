@@ -41,6 +41,8 @@ json printer_status_json(const PrinterStatus& s) {
     print = print_record_json(s.print->record);
     print["elapsed"] = s.print->elapsed;
     print["eta"] = optional_number(s.print->eta());
+    print["layer"] = s.print->layers ? json(s.print->layer) : json(nullptr);
+    print["layers"] = s.print->layers ? json(s.print->layers) : json(nullptr);
   }
   return {{"id", s.id},
           {"kind", to_string(s.kind)},

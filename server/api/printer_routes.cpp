@@ -1,4 +1,5 @@
 // /api/v1/printers…: state, connection, prints and console commands.
+#include <chrono>
 #include <nlohmann/json.hpp>
 
 #include "protocol/marlin/line_codec.hpp"
@@ -66,6 +67,24 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
                                  {"started_at", r.started_at},
                                  {"finished_at", r.finished_at ? json(*r.finished_at) : json(nullptr)}});
                return json_response(200, {{"prints", list}});
+             });
+  // The last half hour of temperatures, for a chart: columns, then one row per sample (at most
+  // one a second); null where the printer had not reported a value.
+  router.add("GET", "/api/v1/printers/{id}/temperatures", Access::key,
+             [&printers](const HttpRequest&, const PathParams& p) {
+               const TemperatureHistory& history = printers.temperatures(p.at("id"));
+               const double now =
+                   std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+               const auto value = [](const std::optional<double>& v) { return v ? json(*v) : json(nullptr); };
+               json rows = json::array();
+               for (const TemperatureSample& s : history.samples(now))
+                 rows.push_back({s.time, value(s.hotend.actual), value(s.hotend.target), value(s.bed.actual),
+                                 value(s.bed.target)});
+               return json_response(200,
+                                    {{"printer", p.at("id")},
+                                     {"window", history.window()},
+                                     {"columns", {"time", "hotend", "hotend_target", "bed", "bed_target"}},
+                                     {"samples", rows}});
              });
   router.add("POST", "/api/v1/printers/{id}/connect", Access::key,
              [&printers](const HttpRequest&, const PathParams& p) {

@@ -23,6 +23,9 @@ void add_job_routes(Router& router, Store& store, JobService& jobs, const Daemon
 void add_printer_routes(Router& router, PrinterService& printers, Store& store, const DaemonConfig& config);
 // OctoPrint's API as slicers use it: /api/files/local, /api/job, /api/printer, /api/settings…
 void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config);
+// The web page (open): / and /web/{file} from the binary, /vendor/{three,chart.js}/… from
+// config.web_vendor_dir.
+void add_web_routes(Router& router, const DaemonConfig& config);
 // /metrics (Prometheus text).
 void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
                        const EventHub& hub, const core::SaliencyCache& saliency);

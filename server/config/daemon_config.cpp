@@ -74,6 +74,7 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
     r.integer("workers", c.workers, 1, 64);
     r.integer("queue_limit", c.queue_limit, 1, 100000);
   });
+  core::read_section(top, "web", source, [&](TableReader& r) { r.text("vendor_dir", c.web_vendor_dir); });
   if (const toml::array* printers = top.array("printers")) {
     c.printers.clear();
     std::set<std::string> ids;

@@ -47,6 +47,9 @@ struct DaemonConfig {
   std::size_t max_bodies_in_flight_bytes = 256u << 20;  // request bodies being read at once (503 beyond)
   int workers = 1;
   int queue_limit = 32;
+  // Where the web page's JavaScript libraries are read from (Debian's libjs-three and
+  // libjs-chart.js install under it), served at /vendor/three/… and /vendor/chart.js/….
+  std::string web_vendor_dir = "/usr/share/javascript";
   std::vector<PrinterConfig> printers = {sim_printer()};
 };
 

@@ -174,7 +174,7 @@ class Session : public std::enable_shared_from_this<Session> {
     if (websocket::is_upgrade(in) && shared_.options.websocket) {
       route_ = "websocket";
       WebSocketAccept accepted = shared_.options.websocket(request_);
-      if (accepted.channel) return upgrade(std::move(accepted.channel));
+      if (accepted.channel) return upgrade(std::move(accepted.channel), accepted.subprotocol);
       return respond(std::move(accepted.refusal), false);
     }
     HttpResponse response = shared_.router.dispatch(request_, &route_);
@@ -183,14 +183,15 @@ class Session : public std::enable_shared_from_this<Session> {
   }
 
   // Hands the connection to a WebSocket session; this HTTP session ends here.
-  void upgrade(std::shared_ptr<WebSocketChannel> channel) {
+  void upgrade(std::shared_ptr<WebSocketChannel> channel, const std::string& subprotocol) {
     upgraded_ = true;  // from here on stream_ is the WebSocket's
     {
       std::lock_guard lock(shared_.mutex);
       shared_.sessions.erase(shared_from_this());
     }
     if (shared_.options.on_response) shared_.options.on_response(method_, route_, 101, elapsed());
-    start_websocket(stream_.release_socket(), std::move(channel), shared_, std::move(slot_), request_);
+    start_websocket(stream_.release_socket(), std::move(channel), shared_, std::move(slot_), request_,
+                    subprotocol);
   }
 
   // A request that was answered: written, then logged and counted.

@@ -84,9 +84,11 @@ void sweep_session(const std::shared_ptr<Session>& session);  // drop it if its 
 
 // ws_session.cpp: the connection upgraded, registered in shared.websockets until it closes
 // (not registered when the server is stopping).
-// `request` is the upgrade request as read (its headers answer the handshake).
+// `request` is the upgrade request as read (its headers answer the handshake); `subprotocol`, when
+// not empty, is the Sec-WebSocket-Protocol chosen from those the client offered.
 void start_websocket(tcp::socket socket, std::shared_ptr<WebSocketChannel> channel, Shared& shared,
-                     std::shared_ptr<ConnectionSlot> slot, const HttpRequest& request);
+                     std::shared_ptr<ConnectionSlot> slot, const HttpRequest& request,
+                     const std::string& subprotocol);
 void stop_websocket(const std::shared_ptr<WsSession>& session);
 
 }  // namespace salient::server::http_internal

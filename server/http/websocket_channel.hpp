@@ -28,6 +28,9 @@ class WebSocketChannel {
 struct WebSocketAccept {
   std::shared_ptr<WebSocketChannel> channel;
   HttpResponse refusal;
+  // The Sec-WebSocket-Protocol to answer with: one the client offered (a browser drops the
+  // connection when it offered some and none is chosen); empty: none offered.
+  std::string subprotocol = {};
 };
 using WebSocketAcceptor = std::function<WebSocketAccept(const HttpRequest&)>;
 

@@ -21,11 +21,13 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
             std::shared_ptr<ConnectionSlot> slot)
       : ws_(std::move(stream)), channel_(std::move(channel)), shared_(shared), slot_(std::move(slot)) {}
 
-  void start(http::request<http::empty_body> request) {
+  void start(http::request<http::empty_body> request, const std::string& subprotocol) {
     beast::get_lowest_layer(ws_).expires_never();
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
-    ws_.set_option(websocket::stream_base::decorator(
-        [](websocket::response_type& r) { r.set(http::field::server, "salientd"); }));
+    ws_.set_option(websocket::stream_base::decorator([subprotocol](websocket::response_type& r) {
+      r.set(http::field::server, "salientd");
+      if (!subprotocol.empty()) r.set(http::field::sec_websocket_protocol, subprotocol);
+    }));
     ws_.read_message_max(64 * 1024);
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
       if (ec) return self->finish();
@@ -102,7 +104,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 };
 
 void start_websocket(tcp::socket socket, std::shared_ptr<WebSocketChannel> channel, Shared& shared,
-                     std::shared_ptr<ConnectionSlot> slot, const HttpRequest& request) {
+                     std::shared_ptr<ConnectionSlot> slot, const HttpRequest& request,
+                     const std::string& subprotocol) {
   // The handshake needs only the request's header (Upgrade, Sec-WebSocket-Key and -Version).
   http::request<http::empty_body> header{http::verb::get, request.target, 11};
   for (const auto& [name, value] : request.headers) header.set(name, value);
@@ -113,7 +116,7 @@ void start_websocket(tcp::socket socket, std::shared_ptr<WebSocketChannel> chann
     if (shared.stopping) return;
     shared.websockets.insert(ws);
   }
-  ws->start(std::move(header));
+  ws->start(std::move(header), subprotocol);
 }
 
 void stop_websocket(const std::shared_ptr<WsSession>& session) {

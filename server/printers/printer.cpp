@@ -98,6 +98,15 @@ PrinterStatus Printer::status() const {
     p.record.confirmed = current_->confirmed;
     p.record.total = current_->total;
     p.elapsed = std::chrono::duration<double>(Clock::now() - current_->started).count();
+    if (const auto& program = current_->program; program && !program->empty()) {
+      const auto next =
+          std::min<std::size_t>(static_cast<std::size_t>(current_->confirmed), program->size() - 1);
+      p.layers = program->layers();  // 1 when the file marks no layer: then none is told
+      if (p.layers > 1)
+        p.layer = (*program)[next].layer + 1;
+      else
+        p.layers = 0;
+    }
   }
   s.last_print = last_;
   return s;
@@ -145,6 +154,7 @@ long long Printer::start_print(const PrintRequest& request) {
   std::shared_ptr<const protocol::Program> program =
       printable_program(request.filename, store_.files().read(request.file_digest), &config_);
   c.total = static_cast<long long>(program->size());
+  c.program = program;
   std::lock_guard lock(mutex_);
   refuse_unless_ready();  // another request may have started one meanwhile
   c.record =

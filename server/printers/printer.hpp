@@ -37,6 +37,7 @@
 #include "server/store/store.hpp"
 
 namespace salient::protocol {
+class Program;
 class PrinterLink;
 struct LinkEvent;
 struct PrintResult;
@@ -131,6 +132,7 @@ class Printer {
     PrintRecord record;
     std::chrono::steady_clock::time_point started;
     long long confirmed = 0, total = 0;
+    std::shared_ptr<const protocol::Program> program;  // for the layer under way
   };
   std::optional<Current> current_;
   std::optional<PrintRecord> last_;

@@ -15,9 +15,27 @@ PrinterService::PrinterService(const DaemonConfig& config, Store& store, Printer
   const double now =
       std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   PrintStore(store_.db()).mark_interrupted(now);
+  for (const PrinterConfig& p : config.printers) temperatures_[p.id] = std::make_unique<TemperatureHistory>();
+  // Every change a printer reports (its temperatures among them) is a chance to sample them.
+  events.changed = [this, publish = std::move(events.changed)](const Printer& printer, bool progress) {
+    TemperatureHistory& history = *temperatures_.at(printer.id());
+    const double t =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    if (history.due(t)) {
+      const PrinterStatus s = printer.status();
+      history.add({t, s.hotend, s.bed});
+    }
+    if (publish) publish(printer, progress);
+  };
   for (const PrinterConfig& p : config.printers) {
     printers_.push_back(std::make_unique<Printer>(p, store_, events));
   }
+}
+
+const TemperatureHistory& PrinterService::temperatures(const std::string& id) const {
+  const auto it = temperatures_.find(id);
+  if (it == temperatures_.end()) throw NotFound("no printer '" + id + "'");
+  return *it->second;
 }
 
 PrinterService::~PrinterService() {

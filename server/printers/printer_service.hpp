@@ -1,6 +1,7 @@
 // PrinterService: the configured printers, what they print (a finished job's G-code, an uploaded
 // file, or the rest of an interrupted print), and where their changes go (the API publishes them
-// on the hub as "printers", "printer/ID" and "terminal/ID" events: printer_event_publisher).
+// on the hub as "printers", "printer/ID" and "terminal/ID" events: printer_event_publisher), and
+// each printer's temperatures over the last half hour.
 #pragma once
 
 #include <functional>
@@ -12,6 +13,7 @@
 
 #include "server/config/daemon_config.hpp"
 #include "server/printers/printer.hpp"
+#include "server/printers/temperature_history.hpp"
 #include "server/store/store.hpp"
 
 namespace salient::server {
@@ -37,8 +39,12 @@ class PrinterService {
   long long print_file(Printer& printer, const std::string& name);
   long long resume(Printer& printer, long long print_id);
 
+  // The printer's temperatures, sampled whenever it reports (once a second at most). NotFound.
+  const TemperatureHistory& temperatures(const std::string& id) const;
+
  private:
   Store& store_;
+  std::map<std::string, std::unique_ptr<TemperatureHistory>> temperatures_;  // fixed after construction
   std::vector<std::unique_ptr<Printer>> printers_;
 };
 

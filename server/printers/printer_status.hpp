@@ -27,6 +27,9 @@ struct PrinterStatus {
   struct Running {
     PrintRecord record;
     double elapsed = 0;  // seconds since it started
+    // The layer under way (1-based) of the file's layers, by its ";LAYER_CHANGE"/";LAYER:"
+    // comments; 0 when the file marks none.
+    std::size_t layer = 0, layers = 0;
     double fraction() const {
       return record.total > 0 ? double(record.confirmed) / double(record.total) : 0.0;
     }

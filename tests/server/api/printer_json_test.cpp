@@ -50,6 +50,10 @@ TEST_CASE("a running print: progress, elapsed and eta, and the last print says w
   CHECK(j["print"]["progress"] == 0.25);
   CHECK(j["print"]["elapsed"] == 30.0);
   CHECK(j["print"]["eta"] == 90.0);
+  CHECK(j["print"]["layer"].is_null());  // a file without layer marks
+  s.print->layer = 3, s.print->layers = 40;
+  CHECK(printer_status_json(s)["print"]["layer"] == 3);
+  CHECK(printer_status_json(s)["print"]["layers"] == 40);
   CHECK(j["print"]["resumable"] == false);
   CHECK(j["print"]["job"].is_null());
   CHECK(j["last_print"]["state"] == "interrupted");

@@ -21,6 +21,7 @@ TEST_CASE("the shipped config/salientd.toml is exactly the embedded defaults") {
   CHECK(shipped.max_connections == d.max_connections);
   CHECK(shipped.max_connections_per_address == d.max_connections_per_address);
   CHECK(shipped.max_bodies_in_flight_bytes == d.max_bodies_in_flight_bytes);
+  CHECK(shipped.web_vendor_dir == d.web_vendor_dir);
   REQUIRE(shipped.printers.size() == 1);
   CHECK(shipped.printers[0].id == "sim");
   CHECK(shipped.printers[0].kind == PrinterKind::sim);
@@ -36,6 +37,8 @@ TEST_CASE("a config with serial and TCP printers") {
 listen = "0.0.0.0:9000"
 [jobs]
 workers = 2
+[web]
+vendor_dir = "/opt/js"
 [[printers]]
 id = "ender"
 kind = "serial"
@@ -50,6 +53,7 @@ port = "10.0.0.5:2000"
                                              "salientd.toml");
   CHECK(c.listen == "0.0.0.0:9000");
   CHECK(c.workers == 2);
+  CHECK(c.web_vendor_dir == "/opt/js");
   REQUIRE(c.printers.size() == 2);
   CHECK(c.printers[0].baud == 115200);
   CHECK(c.printers[1].port == "10.0.0.5:2000");

@@ -124,6 +124,8 @@ expect 404 not_found -H "X-Api-Key: $key" "$base/api/v1/jobs/jnosuchjob"
 expect 404 not_found -H "X-Api-Key: $key" "$base/api/v1/nothing"
 expect 400 bad_settings -H "X-Api-Key: $key" -F "file=@$models/spot.obj" -F 'settings={"rho": ' "$base/api/v1/jobs"
 expect 400 bad_settings -H "X-Api-Key: $key" -F "file=@$models/spot.obj" -F 'settings={"colour": 1}' "$base/api/v1/jobs"
+expect 400 bad_settings -H "X-Api-Key: $key" -F "file=@$models/spot.obj" -F 'settings={"max_layer": 0.4}' "$base/api/v1/jobs"
+field "['error']['message']" < body.json | grep -q "layers.max is 0.3 mm" || fail "max_layer refusal: $(cat body.json)"
 expect 400 bad_request -H "X-Api-Key: $key" --data-binary "@$models/spot.obj" "$base/api/v1/jobs"
 expect 400 bad_request -H "X-Api-Key: $key" "$base/api/v1/jobs?state=sleeping"
 printf 'GIF89a\001\000\001\000' > picture.gif

@@ -155,6 +155,17 @@ TEST_CASE(
   CHECK(refusal(R"({"walls": 2.5})") == "settings: 'walls' must be a whole number");
   CHECK(refusal(R"({"segment_planes": 50})") == "settings: 'segment_planes' must be between 1 and 20");
   CHECK(refusal(R"({"rho": 2})") == "settings: 'rho' must be between 0.0 and 1.0");
+  // A layer thicker than the printer's profile allows is refused, naming its limit; at the limit,
+  // or on a printer that prints it, it is taken.
+  CHECK(
+      refusal(R"({"max_layer": 0.4})") ==
+      "settings: 'max_layer': 0.4 mm is above the thickest layer generic-i3 prints: its profile's layers.max "
+      "is 0.3 mm (0.4 mm nozzle)");
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"max_layer": 0.4})"); }) == 400);
+  CHECK(status_of([&] { service.submit("cube.ply", cube, R"({"printer": "ender3", "max_layer": 0.4})"); }) ==
+        400);
+  CHECK(parse_job_settings(R"({"max_layer": 0.3})").slice.plan.max_layer == 0.3);
+  CHECK(parse_job_settings(R"({"printer": "replicator2x", "max_layer": 0.4})").slice.plan.max_layer == 0.4);
   CHECK(parse_job_settings(R"({"walls": 3.0})").slice.toolpaths.walls == 3);
   // The settings the CLI always had are job settings too; painted saliency comes with the model.
   CHECK(parse_job_settings(R"({"saliency": "painted"})").slice.plan.saliency ==

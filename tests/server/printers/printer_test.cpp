@@ -13,6 +13,7 @@
 #include <sstream>
 #include <thread>
 
+#include "protocol/gcode/program.hpp"
 #include "protocol/marlin/line_codec.hpp"
 #include "server/api/printer_json.hpp"
 #include "server/common/domain_error.hpp"
@@ -137,7 +138,8 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
   p.start();
   REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
-  p.print(f.file(make_gcode(5000)));
+  const std::string gcode = make_gcode(5000);
+  p.print(f.file(gcode));
   REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 50; }));
   p.pause();
   CHECK(p.state() == PrinterState::paused);
@@ -145,6 +147,10 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   const long long held = status(p)["print"]["confirmed"];
   std::this_thread::sleep_for(500ms);
   CHECK(status(p)["print"]["confirmed"] == held);
+  // The layer under way is the one of the next command to confirm, as the file's marks count it.
+  const auto program = salient::protocol::Program::parse(gcode);
+  CHECK(status(p)["print"]["layers"] == program.layers());
+  CHECK(status(p)["print"]["layer"] == program[static_cast<std::size_t>(held)].layer + 1);
   p.resume();
   REQUIRE(eventually([&] { return status(p)["print"]["confirmed"] > held; }));
   p.cancel();
