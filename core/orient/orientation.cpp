@@ -76,6 +76,48 @@ Vec3 centre_of_mass(const Mesh& mesh) {
   return area > 0 ? surface / area : Vec3{};
 }
 
+// The area of the convex hull, on the bed, of the points within `band` of it when `up` is up:
+// what the model stands on. Four hooves span a cow's body; its round back touches at a speck.
+double footprint_area(const Mesh& mesh, const Vec3& up, double band) {
+  const Vec3 u = unit(up);
+  const Vec3 a = unit(std::fabs(u.x) < 0.9 ? cross(u, Vec3{1, 0, 0}) : cross(u, Vec3{0, 1, 0}));
+  const Vec3 b = cross(u, a);
+  double lowest = INFINITY;
+  for (const Vec3& p : mesh.positions) lowest = std::min(lowest, dot(p, u));
+  std::vector<std::pair<double, double>> pts;
+  for (const Vec3& p : mesh.positions)
+    if (dot(p, u) <= lowest + band) pts.emplace_back(dot(p, a), dot(p, b));
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  if (pts.size() < 3) return 0;
+  // Andrew's monotone chain: lower hull, then upper.
+  const auto turn = [](const auto& o, const auto& p, const auto& q) {
+    return (p.first - o.first) * (q.second - o.second) - (p.second - o.second) * (q.first - o.first);
+  };
+  std::vector<std::pair<double, double>> hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  double twice = 0;
+  for (std::size_t i = 0; i + 1 < k; ++i)
+    twice += hull[i].first * hull[i + 1].second - hull[i + 1].first * hull[i].second;
+  return std::fabs(twice) / 2;
+}
+
+// The model's extent along `up`.
+double extent_along(const Mesh& mesh, const Vec3& up) {
+  const Vec3 u = unit(up);
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Vec3& p : mesh.positions) lo = std::min(lo, dot(p, u)), hi = std::max(hi, dot(p, u));
+  return hi > lo ? hi - lo : 0;
+}
+
 }  // namespace
 
 std::array<Vec3, 3> candidate_directions(const Mesh& mesh) {
@@ -163,33 +205,16 @@ double bed_contact_area(const Mesh& mesh, const Vec3& up, double tolerance) {
   return area;
 }
 
-double overhang_volume(const Mesh& mesh, const Vec3& up, double support_angle, double tolerance) {
-  const Vec3 u = unit(up);
-  double lowest = INFINITY;
-  for (const Vec3& p : mesh.positions) lowest = std::min(lowest, dot(p, u));
-  const double steep = std::sin(support_angle * M_PI / 180);
-  double volume = 0;
-  for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
-    const Vec3 c = area_normal(mesh, f);  // twice the area
-    const double twice = norm(c);
-    if (!(twice > 0) || !(-dot(c, u) > steep * twice)) continue;
-    const Triangle& t = mesh.triangles[f];
-    const double h =
-        (dot(mesh.positions[t[0]], u) + dot(mesh.positions[t[1]], u) + dot(mesh.positions[t[2]], u)) / 3 -
-        lowest;
-    if (h > tolerance) volume += -dot(c, u) / 2 * h;
-  }
-  return volume;
-}
-
 Vec3 pick_up_sign(const Mesh& mesh, const Vec3& d, const CandidateOptions& o) {
   const double tolerance = o.contact_tolerance / o.scale;
   const double plus = bed_contact_area(mesh, d, tolerance),
                minus = bed_contact_area(mesh, d * -1.0, tolerance);
   if (std::fabs(plus - minus) > 0.01 * surface_area(mesh)) return minus > plus ? d * -1.0 : d;
-  const double hang_plus = overhang_volume(mesh, d, o.support_angle, tolerance),
-               hang_minus = overhang_volume(mesh, d * -1.0, o.support_angle, tolerance);
-  if (hang_plus != hang_minus) return hang_minus < hang_plus ? d * -1.0 : d;
+  // Neither side is a base: the side it stands on more widely (its lowest 2 %), so that a cow is
+  // stood on its hooves and a bust on its neck rather than on a round back or crown.
+  const double band = 0.02 * extent_along(mesh, d);
+  const double foot_plus = footprint_area(mesh, d, band), foot_minus = footprint_area(mesh, d * -1.0, band);
+  if (foot_plus != foot_minus) return foot_minus > foot_plus ? d * -1.0 : d;
   return minus > plus ? d * -1.0 : d;
 }
 
@@ -207,7 +232,11 @@ std::vector<Vec3> base_directions(const Mesh& mesh, const CandidateOptions& o) {
       const Vec3 up = r.normal * -1.0;
       double lowest = INFINITY;
       for (const Vec3& p : mesh.positions) lowest = std::min(lowest, dot(p, up));
-      if (dot(r.centroid, up) - lowest <= flat && projects_inside(m, r, mass)) bases.emplace_back(r.area, up);
+      // A hull facet can span feet or bumps that touch the bed at specks: it is a base only
+      // where the first layer prints a real share of the model.
+      if (dot(r.centroid, up) - lowest <= flat && projects_inside(m, r, mass) &&
+          bed_contact_area(mesh, up, tolerance) >= 0.5 * o.min_share * surface_area(mesh))
+        bases.emplace_back(r.area, up);
     }
   };
   offer(mesh, planar_regions(mesh, flat_angle, flat), surface_area(mesh));

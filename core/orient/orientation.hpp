@@ -25,7 +25,6 @@ std::array<Vec3, 3> candidate_directions(const Mesh& mesh);
 struct CandidateOptions {
   double scale = 1;                // print mm per unit of the mesh
   double contact_tolerance = 0.1;  // mm: what lies this close to the bed is printed in the first layer
-  double support_angle = 55;       // degrees from vertical: steeper overhangs need support
   double min_share = 0.025;        // a base's area, at least this share of the (hull's) surface
   int max_bases = 3;               // the largest bases offered, at most
 };
@@ -36,14 +35,10 @@ struct CandidateOptions {
 // is half of it, as layers are cut at mid-height — and a flat base counts in full.
 double bed_contact_area(const Mesh& mesh, const Vec3& up, double tolerance);
 
-// The support a print needs, roughly: Σ projected area × height above the bed over the faces that
-// face down more steeply than `support_angle` (degrees from vertical), the bottom excepted. In the
-// mesh's units cubed.
-double overhang_volume(const Mesh& mesh, const Vec3& up, double support_angle, double tolerance);
-
 // `d` or `-d`. The one that puts more area on the bed when the two differ by a meaningful share
-// (1 %) of the surface; else the one that needs less support (a scanned animal touches the bed at
-// a few specks either way, but upside down it hangs over its back); else `d`.
+// (1 %) of the surface; else the one whose lowest 2 % spans the larger footprint on the bed (a
+// scanned animal touches the bed at specks either way, but its hooves span its body, its back a
+// speck); else `d`.
 Vec3 pick_up_sign(const Mesh& mesh, const Vec3& d, const CandidateOptions& options = {});
 
 // The directions a model can rest on, as up directions: −n of each large flat region of the

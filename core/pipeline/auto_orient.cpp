@@ -19,7 +19,6 @@ OrientationReport choose_orientation(const SliceSettings& settings, const Printe
   CandidateOptions options;
   options.scale = settings.plan.mesh.scale;
   options.contact_tolerance = printer.first_layer_height / 2;  // layers are cut at mid-height
-  options.support_angle = settings.support_settings.angle;
   // Candidates are compared at one scale. With a target height, that is the scale at which the
   // tallest of them has that height; the print keeps it (report.scale). The bases' tolerances are
   // in print millimetres, so they are found at the scale the three axes give, close to the final one.

@@ -73,6 +73,28 @@ TEST_CASE("bed contact: the face that lies on the bed, and the sign that puts th
   CHECK(pick_up_sign(wedge, {0, 0, 1}).z == doctest::Approx(1));
 }
 
+TEST_CASE("an axis is signed so that a four-legged animal stands on its legs, not on its round back") {
+  // A round body (an ellipsoid 40 long, radius 8, along x) on four 2 × 2 × 15 mm legs: the hooves
+  // and the back touch the bed about as much, neither is a base. Upright, the belly overhangs 15 mm
+  // above the bed, on its back almost nothing does, so signing by support (as this did before) laid
+  // the cow of the shared models on its back; the legs span a far wider footprint.
+  std::vector<std::vector<Vec3>> rings;
+  for (int k = 1; k < 40; ++k) {
+    const double r = 8 * std::sin(M_PI * k / 40);
+    rings.push_back(salient::test::ring(48, 0, 0, k, [r](double) { return r; }));
+  }
+  Mesh animal = salient::test::ring_stack(rings);
+  for (Vec3& p : animal.positions) p = rotate(p, {0, 1, 0}, M_PI / 2) + Vec3{0, 0, 15 + 6};
+  for (const Vec3 at : {Vec3{8, -5, 0}, Vec3{8, 3, 0}, Vec3{30, -5, 0}, Vec3{30, 3, 0}}) {
+    Mesh leg = salient::test::box(2, 2, 16);
+    const auto base = static_cast<std::uint32_t>(animal.positions.size());
+    for (const Vec3& p : leg.positions) animal.positions.push_back(p + at);
+    for (Triangle t : leg.triangles) animal.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  CHECK(pick_up_sign(animal, {0, 0, 1}).z == doctest::Approx(1));
+  CHECK(pick_up_sign(animal, {0, 0, -1}).z == doctest::Approx(1));
+}
+
 TEST_CASE("VolS (eq. 13): a box sliced in whole layers has its volume exactly, a sphere nearly") {
   const Mesh box = salient::test::box(10, 20, 6);
   std::vector<double> z;
