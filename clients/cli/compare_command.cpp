@@ -15,6 +15,7 @@
 #include "core/common/input_error.hpp"
 #include "core/export/plan_file.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
+#include "core/pipeline/slice_pipeline.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/slicing/comparison.hpp"
 #include "core/slicing/given_plan.hpp"
@@ -30,7 +31,8 @@ void add_segopt_rows(const core::PlanningSetup& setup, core::Comparison& c) {
   for (const char* name : {"exact", "adapslice"}) {
     const auto planner = core::make_planner(name);
     const auto t0 = std::chrono::steady_clock::now();
-    const core::SegOptResult r = core::segment_model(setup, *planner, {}, *printer);
+    const core::SegOptResult r =
+        core::segment_model(setup, *planner, core::region_slice_settings({}, *printer), *printer);
     core::ComparisonRow row;
     row.planner = std::string(name) + "+segopt";
     row.layers_at_rsmd = static_cast<int>(core::printed_heights(*setup.profile, r.regions).size());

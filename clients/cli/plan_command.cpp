@@ -11,6 +11,7 @@
 #include "core/export/plan_json.hpp"
 #include "core/pipeline/plan_report.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
+#include "core/pipeline/slice_pipeline.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/segment/regions_svg.hpp"
 #include "core/slicing/plan_svg.hpp"
@@ -40,12 +41,15 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
   core::SegOptOptions options;
   options.depth = o.plan.segment_depth;
   options.planes = o.plan.segment_planes;
-  const core::SegOptResult r = core::segment_model(setup, planner, {}, *printer, {}, options);
+  // Timed as slice would print it (its toolpath settings for generic-i3).
+  const core::RegionSliceSettings settings = core::region_slice_settings(o.settings.slice, *printer);
+  const core::SegOptResult r = core::segment_model(setup, planner, settings, *printer, {}, options);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const core::ZProfile& p = *setup.profile;
   const std::string name = std::filesystem::path(o.plan.mesh.model).filename().string();
-  const core::PlanDocument plan =
-      core::segmented_plan_document(setup, name, std::string(core::to_string(o.plan.planner)), r, seconds);
+  const core::PlanDocument plan = core::segmented_plan_document(
+      setup, name, std::string(core::to_string(o.plan.planner)), r, seconds,
+      core::segmented_plan_times(setup, r, core::region_timer(setup, settings, *printer)));
   const std::string text = core::plan_json(plan);
   if (!o.output.empty()) write_file(o.output, text);
   const std::vector<double> heights = core::printed_heights(p, r.regions);
@@ -63,6 +67,9 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
               std::string(core::to_string(o.plan.metric)).c_str(), core::saliency_text(o.plan).c_str());
   std::printf("  layers   %zu printed heights (fine %d)\n  time     %.3f s\n", heights.size(),
               p.most_layers(), seconds);
+  if (plan.times)
+    std::printf("  print    %s (estimated on the G-code)\n",
+                core::times_text(*plan.times, p.params().min_layer, plan.rsmd).c_str());
   if (p.dropped_faces() > 0)
     std::printf("  warning  %zu faces of zero or non-finite area were left out of the profile\n",
                 p.dropped_faces());

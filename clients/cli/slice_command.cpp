@@ -72,7 +72,7 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
           r.rsmd, printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds,
           o->output.c_str());
       if (r.plan.times)
-        std::printf("estimated (time model): %s\n",
+        std::printf("estimated (%s): %s\n", r.segmentation ? "G-code" : "time model",
                     core::times_text(*r.plan.times, r.plan.min_layer, r.rsmd).c_str());
       if (r.dropped_faces > 0)
         std::printf("warning: %zu faces of zero or non-finite area were left out of the layer profile\n",

@@ -6,7 +6,9 @@
 #include <cstdio>
 
 #include "core/geometry/mesh_section.hpp"
+#include "core/mesh/convex_hull.hpp"
 #include "core/mesh/placement.hpp"
+#include "core/orient/planar_regions.hpp"
 
 namespace salient::core {
 namespace {
@@ -48,6 +50,72 @@ std::array<Vec3, 3> principal_axes(const std::vector<Facet>& fs, Select&& select
 
 Vec3 unit(const Vec3& v) {
   return v / norm(v);
+}
+
+// Within `degrees` of one of `list`.
+bool near_any(const std::vector<Vec3>& list, const Vec3& d, double degrees) {
+  const double limit = std::cos(degrees * M_PI / 180);
+  return std::any_of(list.begin(), list.end(), [&](const Vec3& e) { return dot(unit(e), unit(d)) > limit; });
+}
+
+// The centre of the enclosed volume; of the surface where the mesh encloses none (open meshes).
+Vec3 centre_of_mass(const Mesh& mesh) {
+  Vec3 moment{}, surface{};
+  double volume = 0, area = 0;
+  for (std::size_t f = 0; f < mesh.triangle_count(); ++f) {
+    const Triangle& t = mesh.triangles[f];
+    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const double v = dot(a, cross(b, c)) / 6;  // the tetrahedron (origin, a, b, c)
+    volume += v;
+    moment += (a + b + c) * (v / 4);
+    const double s = norm(area_normal(mesh, f)) / 2;
+    area += s;
+    surface += (a + b + c) * (s / 3);
+  }
+  if (volume > 0) return moment / volume;
+  return area > 0 ? surface / area : Vec3{};
+}
+
+// The area of the convex hull, on the bed, of the points within `band` of it when `up` is up:
+// what the model stands on. Four hooves span a cow's body; its round back touches at a speck.
+double footprint_area(const Mesh& mesh, const Vec3& up, double band) {
+  const Vec3 u = unit(up);
+  const Vec3 a = unit(std::fabs(u.x) < 0.9 ? cross(u, Vec3{1, 0, 0}) : cross(u, Vec3{0, 1, 0}));
+  const Vec3 b = cross(u, a);
+  double lowest = INFINITY;
+  for (const Vec3& p : mesh.positions) lowest = std::min(lowest, dot(p, u));
+  std::vector<std::pair<double, double>> pts;
+  for (const Vec3& p : mesh.positions)
+    if (dot(p, u) <= lowest + band) pts.emplace_back(dot(p, a), dot(p, b));
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  if (pts.size() < 3) return 0;
+  // Andrew's monotone chain: lower hull, then upper.
+  const auto turn = [](const auto& o, const auto& p, const auto& q) {
+    return (p.first - o.first) * (q.second - o.second) - (p.second - o.second) * (q.first - o.first);
+  };
+  std::vector<std::pair<double, double>> hull(2 * pts.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (std::size_t i = pts.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  double twice = 0;
+  for (std::size_t i = 0; i + 1 < k; ++i)
+    twice += hull[i].first * hull[i + 1].second - hull[i + 1].first * hull[i].second;
+  return std::fabs(twice) / 2;
+}
+
+// The model's extent along `up`.
+double extent_along(const Mesh& mesh, const Vec3& up) {
+  const Vec3 u = unit(up);
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Vec3& p : mesh.positions) lo = std::min(lo, dot(p, u)), hi = std::max(hi, dot(p, u));
+  return hi > lo ? hi - lo : 0;
 }
 
 }  // namespace
@@ -114,20 +182,81 @@ double bed_contact_area(const Mesh& mesh, const Vec3& up, double tolerance) {
   const Vec3 u = unit(up);
   double lowest = INFINITY;
   for (const Vec3& p : mesh.positions) lowest = std::min(lowest, dot(p, u));
+  const double top = lowest + tolerance;
   double area = 0;
   for (const Triangle& t : mesh.triangles) {
-    const Vec3 &p0 = mesh.positions[t[0]], &p1 = mesh.positions[t[1]], &p2 = mesh.positions[t[2]];
-    if (dot(p0, u) - lowest > tolerance || dot(p1, u) - lowest > tolerance || dot(p2, u) - lowest > tolerance)
-      continue;
-    const Vec3 c = cross(p1 - p0, p2 - p0);
-    const double twice = norm(c);
-    if (twice > 0 && dot(c, u) / twice < -0.985) area += twice / 2;  // facing down within 10°
+    const std::array<Vec3, 3> p{mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
+    const Vec3 c = cross(p[1] - p[0], p[2] - p[0]);
+    if (!(dot(c, u) < 0)) continue;  // faces up or on edge: holds nothing on the bed
+    // The part of the triangle at or below `top` (Sutherland–Hodgman against one plane).
+    std::array<Vec3, 4> clipped{};
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < 3; ++i) {
+      const Vec3 &a = p[i], &b = p[(i + 1) % 3];
+      const double da = dot(a, u) - top, db = dot(b, u) - top;
+      if (da <= 0) clipped[n++] = a;
+      if ((da < 0 && db > 0) || (da > 0 && db < 0)) clipped[n++] = a + (b - a) * (da / (da - db));
+    }
+    Vec3 twice{};
+    for (std::size_t i = 1; i + 1 < n; ++i)
+      twice += cross(clipped[i] - clipped[0], clipped[i + 1] - clipped[0]);
+    area += -dot(twice, u) / 2;  // projected onto the bed
   }
   return area;
 }
 
-Vec3 pick_up_sign(const Mesh& mesh, const Vec3& d) {
-  return bed_contact_area(mesh, d * -1.0) > bed_contact_area(mesh, d) ? d * -1.0 : d;
+Vec3 pick_up_sign(const Mesh& mesh, const Vec3& d, const CandidateOptions& o) {
+  const double tolerance = o.contact_tolerance / o.scale;
+  const double plus = bed_contact_area(mesh, d, tolerance),
+               minus = bed_contact_area(mesh, d * -1.0, tolerance);
+  if (std::fabs(plus - minus) > 0.01 * surface_area(mesh)) return minus > plus ? d * -1.0 : d;
+  // Neither side is a base: the side it stands on more widely (its lowest 2 %), so that a cow is
+  // stood on its hooves and a bust on its neck rather than on a round back or crown.
+  const double band = 0.02 * extent_along(mesh, d);
+  const double foot_plus = footprint_area(mesh, d, band), foot_minus = footprint_area(mesh, d * -1.0, band);
+  if (foot_plus != foot_minus) return foot_minus > foot_plus ? d * -1.0 : d;
+  return minus > plus ? d * -1.0 : d;
+}
+
+std::vector<Vec3> base_directions(const Mesh& mesh, const CandidateOptions& o) {
+  const double tolerance = o.contact_tolerance / o.scale;
+  // A base is flat to within the first layer (twice the contact tolerance, which is half of it):
+  // the printer presses that much into the bed. The angle only keeps a fold from joining.
+  const double flat = 2 * tolerance, flat_angle = 10 * M_PI / 180;
+  const Vec3 mass = centre_of_mass(mesh);
+  std::vector<std::pair<double, Vec3>> bases;  // area, up
+  // A region is a base if it lies at the bottom once turned down and the model stands over it.
+  const auto offer = [&](const Mesh& m, const std::vector<PlanarRegion>& regions, double total) {
+    for (const PlanarRegion& r : regions) {
+      if (r.area < o.min_share * total) break;  // largest first
+      const Vec3 up = r.normal * -1.0;
+      double lowest = INFINITY;
+      for (const Vec3& p : mesh.positions) lowest = std::min(lowest, dot(p, up));
+      // A hull facet can span feet or bumps that touch the bed at specks: it is a base only
+      // where the first layer prints a real share of the model.
+      if (dot(r.centroid, up) - lowest <= flat && projects_inside(m, r, mass) &&
+          bed_contact_area(mesh, up, tolerance) >= 0.5 * o.min_share * surface_area(mesh))
+        bases.emplace_back(r.area, up);
+    }
+  };
+  offer(mesh, planar_regions(mesh, flat_angle, flat), surface_area(mesh));
+  const Mesh hull = convex_hull(mesh.positions);
+  offer(hull, planar_regions(hull, flat_angle, flat), surface_area(hull));
+  std::stable_sort(bases.begin(), bases.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<Vec3> out;
+  for (const auto& [area, up] : bases)
+    if (static_cast<int>(out.size()) < o.max_bases && !near_any(out, up, 10)) out.push_back(up);
+  return out;
+}
+
+std::vector<Vec3> candidate_ups(const Mesh& mesh, const CandidateOptions& o) {
+  std::vector<Vec3> out = base_directions(mesh, o);
+  for (const Vec3& d : candidate_directions(mesh)) {
+    const Vec3 up = pick_up_sign(mesh, d, o);
+    if (!near_any(out, up, 1)) out.push_back(up);
+  }
+  return out;
 }
 
 double volumetric_score(const Mesh& placed, std::span<const double> boundaries) {

@@ -1,6 +1,7 @@
-// --up auto: slices the model in each of its three candidate orientations (core/orient) with our
-// own toolpaths and support, as the paper scores time with support (§6), and picks the best
-// score. Phase "orient" is reported, fraction over the three slices.
+// --up auto: slices the model in each of its candidate orientations (core/orient: its bases, then
+// the paper's three axes) with our own toolpaths and support, as the paper scores time with
+// support (§6), and picks the best score. StaS's contact is measured at print scale (half the
+// printer's first layer). Phase "orient" is reported, fraction over the slices.
 #pragma once
 
 #include "core/common/progress.hpp"

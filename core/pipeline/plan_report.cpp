@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 
 #include "core/pipeline/segmented_slicing.hpp"
 
@@ -29,15 +30,17 @@ PlanDocument common(const PlanningSetup& setup, const std::string& model, const 
 
 }  // namespace
 
-std::optional<PlanTimes> plan_times(const PlanningSetup& setup, const LayerPlan& plan) {
-  if (!setup.time) return std::nullopt;
+namespace {
+
+// PlanTimes' layer counts and RSMD, and its times by `seconds` (of one plan of the whole model).
+PlanTimes times_of(const PlanningSetup& setup, double plan_seconds,
+                   const std::function<double(const LayerPlan&)>& seconds) {
   const ZProfile& p = *setup.profile;
-  const LayerTimeModel& time = *setup.time;
   PlanTimes t;
-  t.plan_seconds = time.seconds(plan);
+  t.plan_seconds = plan_seconds;
   const LayerPlan fine = make_planner(PlannerKind::fine)->plan(setup.request(PlanTarget::within(0))).plan;
   t.fine_layers = fine.layer_count();
-  t.fine_seconds = time.seconds(fine);
+  t.fine_seconds = seconds(fine);
   t.default_layer_height = setup.default_layer;
   if (setup.default_layer > 0) {
     const double first = setup.first_cells > 0 ? p.z(setup.first_cells) : 0;
@@ -46,10 +49,28 @@ std::optional<PlanTimes> plan_times(const PlanningSetup& setup, const LayerPlan&
     const LayerPlan uniform =
         make_planner(PlannerKind::uniform)->plan(setup.request(PlanTarget::count(n))).plan;
     t.default_layers = uniform.layer_count();
-    t.default_seconds = time.seconds(uniform);
+    t.default_seconds = seconds(uniform);
     t.default_rsmd = setup.objective->rsmd(uniform);
   }
   return t;
+}
+
+}  // namespace
+
+std::optional<PlanTimes> plan_times(const PlanningSetup& setup, const LayerPlan& plan) {
+  if (!setup.time) return std::nullopt;
+  const LayerTimeModel& time = *setup.time;
+  return times_of(setup, time.seconds(plan), [&](const LayerPlan& l) { return time.seconds(l); });
+}
+
+PlanTimes segmented_plan_times(const PlanningSetup& setup, const SegOptResult& result,
+                               const RegionTimer& timer) {
+  return times_of(setup, result.seconds, [&](const LayerPlan& plan) {
+    PlanRegion whole;
+    whole.last_cell = setup.profile->cells();
+    whole.plan = plan;
+    return timer({whole});
+  });
 }
 
 std::string duration_text(double seconds) {
@@ -94,7 +115,8 @@ PlanDocument plan_document(const PlanningSetup& setup, const std::string& model,
 }
 
 PlanDocument segmented_plan_document(const PlanningSetup& setup, const std::string& model,
-                                     const std::string& planner, const SegOptResult& result, double seconds) {
+                                     const std::string& planner, const SegOptResult& result, double seconds,
+                                     std::optional<PlanTimes> times) {
   const ZProfile& p = *setup.profile;
   PlanDocument d = common(setup, model, planner, seconds);
   double below = 0;
@@ -109,6 +131,7 @@ PlanDocument segmented_plan_document(const PlanningSetup& setup, const std::stri
   d.rho = setup.rho;
   d.note = result.note;
   d.segmentation = segmentation_report(result, p);
+  d.times = std::move(times);
   return d;
 }
 

@@ -27,10 +27,17 @@ std::string times_text(const PlanTimes& times, double fine_layer_height, double 
 PlanDocument plan_document(const PlanningSetup& setup, const std::string& model, const std::string& planner,
                            const PlanResult& result, const PlanTarget& target, double seconds);
 
+// The times of a segmented plan, all on `timer` (the regions' toolpaths and G-code, as SegOpt
+// decided by): the plan's (SegOpt's result), and the baselines of PlanTimes each as one whole
+// region. The layer time model cannot time regions side by side.
+PlanTimes segmented_plan_times(const PlanningSetup& setup, const SegOptResult& result,
+                               const RegionTimer& timer);
+
 // The printed layers are the regions' merged heights (printed_heights); E and RSMD those of all
 // regions together (regions_error).
 PlanDocument segmented_plan_document(const PlanningSetup& setup, const std::string& model,
-                                     const std::string& planner, const SegOptResult& result, double seconds);
+                                     const std::string& planner, const SegOptResult& result, double seconds,
+                                     std::optional<PlanTimes> times = std::nullopt);
 
 // `whole`: the profile the regions' cells are on.
 SegmentationReport segmentation_report(const SegOptResult& result, const ZProfile& whole);

@@ -55,6 +55,14 @@ double region_print_seconds(const Mesh& mesh, const ZProfile& whole, const std::
   return write_gcode(region_toolpaths(mesh, whole, regions, s, run), printer, {}).seconds;
 }
 
+RegionTimer region_timer(const PlanningSetup& setup, const RegionSliceSettings& settings,
+                         const PrinterProfile& printer, const RunContext& run) {
+  const RunContext quiet{run.cancel, {}};
+  return [&setup, &settings, &printer, quiet](const std::vector<PlanRegion>& regions) {
+    return region_print_seconds(setup.model.loaded.mesh, *setup.profile, regions, settings, printer, quiet);
+  };
+}
+
 SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner,
                            const RegionSliceSettings& settings, const PrinterProfile& printer,
                            const RunContext& run, SegOptOptions options) {
@@ -62,15 +70,10 @@ SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner,
     throw InputError(SettingId::planner,
                      "ha13 cuts the whole model's sections, so it cannot plan the parts of {segment}");
   const Mesh& mesh = setup.model.loaded.mesh;
-  const SegOptInput input{mesh,    setup.saliency, *setup.profile, setup.objective->metric(),
-                          planner, setup.rho,      setup.seed,     nullptr,
-                          {}};
-  // The time estimates slice quietly: their toolpath progress is not the job's.
-  RunContext quiet{run.cancel, {}};
-  const RegionTimer timer = [&](const std::vector<PlanRegion>& regions) {
-    return region_print_seconds(mesh, *setup.profile, regions, settings, printer, quiet);
-  };
-  return seg_opt(input, timer, options, run);
+  const SegOptInput input{mesh,    setup.saliency,   *setup.profile, setup.objective->metric(),
+                          planner, setup.rho,        setup.seed,     nullptr,
+                          {},      setup.first_cells};
+  return seg_opt(input, region_timer(setup, settings, printer, run), options, run);
 }
 
 std::vector<double> printed_heights(const ZProfile& whole, const std::vector<PlanRegion>& regions) {

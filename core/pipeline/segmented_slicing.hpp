@@ -29,6 +29,11 @@ double region_print_seconds(const Mesh& mesh, const ZProfile& whole, const std::
                             const RegionSliceSettings& settings, const PrinterProfile& printer,
                             const RunContext& run = {});
 
+// region_print_seconds of `setup`'s model, quietly (toolpath progress is not the caller's); stops
+// when `run` is cancelled. `setup`, `settings` and `printer` must outlive it.
+RegionTimer region_timer(const PlanningSetup& setup, const RegionSliceSettings& settings,
+                         const PrinterProfile& printer, const RunContext& run = {});
+
 // SegOpt on a prepared model with `planner` at the setup's ρ, timed on `printer`. Throws
 // InputError for a planner that needs more than the objective (ha13 cuts the whole mesh).
 SegOptResult segment_model(const PlanningSetup& setup, const Planner& planner,

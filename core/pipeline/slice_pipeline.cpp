@@ -43,6 +43,14 @@ void check_slice_settings(const SliceSettings& s, const PrinterProfile& printer)
                                                " nozzle)");
 }
 
+RegionSliceSettings region_slice_settings(const SliceSettings& s, const PrinterProfile& printer) {
+  RegionSliceSettings out{s.toolpaths, s.support, s.support_settings};
+  out.toolpaths.solid_infill_below_area = printer.solid_infill_below_area;
+  out.toolpaths.resolution = printer.gcode_resolution;
+  if (s.combine_infill) out.toolpaths.combine_infill_up_to = printer.max_layer;
+  return out;
+}
+
 TimeModelParams time_model_params(const PrinterProfile& printer, const ToolpathSettings& toolpaths,
                                   const GcodeSettings& gcode) {
   TimeModelParams t;
@@ -97,8 +105,8 @@ void keep_quicker_on_gcode(const PlanningSetup& setup, const Planner& planner, c
 
 SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
   check_slice_settings(s, printer);  // before the orientations are sliced
-  s.toolpaths.solid_infill_below_area = printer.solid_infill_below_area;
-  s.toolpaths.resolution = printer.gcode_resolution;
+  const RegionSliceSettings region_settings = region_slice_settings(s, printer);
+  s.toolpaths = region_settings.toolpaths;
   std::optional<OrientationReport> orientation;
   if (s.plan.mesh.up == "auto") {
     orientation = choose_orientation(s, printer, run);
@@ -110,14 +118,12 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   if (s.max_layer_from_printer) plan.max_layer = printer.max_layer;
   plan.mesh.bed_center_x = printer.bed_center_x();
   plan.mesh.bed_center_y = printer.bed_center_y();
-  if (s.combine_infill) s.toolpaths.combine_infill_up_to = printer.max_layer;
   plan.first_layer = printer.first_layer_height;
   plan.default_layer = printer.default_layer_height;
   plan.time_model = time_model_params(printer, s.toolpaths, GcodeSettings{});
   const auto planner = make_planner(plan.planner);
   const auto setup = prepare(plan, run);
   run.check();
-  const RegionSliceSettings region_settings{s.toolpaths, s.support, s.support_settings};
   const ZProfile& p = *setup->profile;
   std::vector<PlanRegion> regions;
   SliceResult out;
@@ -138,8 +144,10 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
     for (const PlanRegion& r : regions) e_coarse += setup->rho > 0 ? r.epsilon / setup->rho : 0;
     out.error = regions_error(regions);
     out.rsmd = e_coarse > 0 ? out.error / e_coarse : 0;
-    out.plan = segmented_plan_document(*setup, out.model_name, std::string(to_string(plan.planner)),
-                                       *out.segmentation, planning_seconds());
+    const double planned_in = planning_seconds();
+    out.plan = segmented_plan_document(
+        *setup, out.model_name, std::string(to_string(plan.planner)), *out.segmentation, planned_in,
+        segmented_plan_times(*setup, *out.segmentation, region_timer(*setup, region_settings, printer, run)));
   } else {
     run.report("plan", 0);
     const PlanTarget target = target_of(plan, *setup);

@@ -15,6 +15,7 @@
 #include "core/gcode/stream_demand.hpp"
 #include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
+#include "core/pipeline/segmented_slicing.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/segment/seg_opt.hpp"
 #include "core/toolpath/support_generator.hpp"
@@ -58,6 +59,12 @@ void check_slice_settings(const SliceSettings& settings, const PrinterProfile& p
 // The time model's printer, toolpath and G-code values (its calibrated factors stay).
 TimeModelParams time_model_params(const PrinterProfile& printer, const ToolpathSettings& toolpaths,
                                   const GcodeSettings& gcode);
+
+// The toolpath and support settings slice_model prints with on `printer`: `settings`' own with
+// the printer's small-section solid infill, G-code resolution and (with combine_infill) its
+// thickest layer for combined sparse infill. Whatever times a plan for `printer` (plan --segment,
+// compare's SegOpt rows) uses these, so that it times what slice prints.
+RegionSliceSettings region_slice_settings(const SliceSettings& settings, const PrinterProfile& printer);
 
 // Throws InputError naming the setting or file at fault, Cancelled when run.cancel fires.
 // plan.mesh.up = "auto" first chooses the orientation (core/pipeline/auto_orient, phase "orient").

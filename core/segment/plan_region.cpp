@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <set>
 
+#include "core/common/input_error.hpp"
 #include "core/geometry/polygon_ops.hpp"
 #include "core/segment/seg_opt.hpp"
 #include "core/slicing/exact_solver.hpp"
@@ -37,6 +38,31 @@ std::optional<LayerPlan> exact_on_allowed(const Objective& objective, std::vecto
   for (int n = p.fewest_layers(); n <= p.most_layers(); ++n)
     if (solver.best_sm(n) <= budget + slack) return solver.plan(n);
   return std::nullopt;
+}
+
+// exact_on_allowed with the first `fixed` cells one fixed layer (0: none), as FirstLayerPlanner
+// plans: the rest above it, with what the first layer leaves of ε. E(plan) = SM(first) +
+// SM_above(rest) − SM(fine), so E ≤ ε ⇔ E_above(rest) ≤ ε + SM(fine) − SM(first) − SM_above(fine).
+std::optional<LayerPlan> exact_above_first(const Objective& objective, std::vector<char> allowed,
+                                           double epsilon, int fixed, const RunContext& run) {
+  const ZProfile& p = objective.profile();
+  if (fixed <= 0 || fixed >= p.cells()) return exact_on_allowed(objective, std::move(allowed), epsilon, run);
+  std::optional<ZProfile> rest;
+  try {
+    rest.emplace(p.window(fixed, p.cells()));
+  } catch (const InputError&) {  // what is left above cannot be cut into layers: plan it all
+    return exact_on_allowed(objective, std::move(allowed), epsilon, run);
+  }
+  const Objective above(*rest, objective.metric());
+  const double left = epsilon + objective.sm_fine() - objective.layer_sm(0, fixed) - above.sm_fine();
+  std::vector<char> allowed_above(allowed.begin() + fixed, allowed.end());
+  allowed_above.front() = 1;
+  std::optional<LayerPlan> plan = exact_on_allowed(above, std::move(allowed_above), std::max(0.0, left), run);
+  if (!plan) return plan;
+  std::vector<int> boundaries{0};
+  for (int b : plan->boundaries) boundaries.push_back(b + fixed);
+  plan->boundaries = std::move(boundaries);
+  return plan;
 }
 
 bool meets(const ZProfile& p, const PlanRegion& region, const std::vector<const PlanRegion*>& meet) {
@@ -138,7 +164,9 @@ std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region
   const ZProfile slab = profile.window(first, last);
   const Objective objective(slab, in.metric);
   region.epsilon = epsilon ? *epsilon : objective.epsilon(in.rho);
-  const PlanRequest request{objective, nullptr, nullptr, PlanTarget::within(region.epsilon), in.seed, run};
+  const int fixed = first == 0 ? in.first_cells : 0;  // a region on the bed starts with the first layer
+  PlanRequest request{objective, nullptr, nullptr, PlanTarget::within(region.epsilon), in.seed, run};
+  request.first_cells = fixed;
   LayerPlan local = in.planner.plan(request).plan;
   const auto to_whole = [&](const LayerPlan& plan) {
     region.plan.boundaries.clear();
@@ -154,14 +182,14 @@ std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion region
       for (int b : n->plan.boundaries)
         if (b >= first && b <= last) theirs[b - first] = 1;
     for (std::size_t k = 1; k + 1 < on.size(); ++k) on[k] = on[k] && theirs[k];
-    if (const auto aligned = exact_on_allowed(objective, on, region.epsilon, run)) {
+    if (const auto aligned = exact_above_first(objective, on, region.epsilon, fixed, run)) {
       local = *aligned;
       to_whole(local);
     }
   }
   if (!meets(profile, region, meet)) {
     const auto constrained =
-        exact_on_allowed(objective, seam_allowed(profile, first, last, meet), region.epsilon, run);
+        exact_above_first(objective, seam_allowed(profile, first, last, meet), region.epsilon, fixed, run);
     if (!constrained) return std::nullopt;
     local = *constrained;
     to_whole(local);

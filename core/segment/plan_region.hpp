@@ -46,7 +46,8 @@ std::vector<char> seam_allowed(const ZProfile& whole, int first_cell, int last_c
 // input's planner to `epsilon` (by default ρ·E(coarse) of the slab); its boundaries also keep the
 // seam rule against every region of `meet` it touches (the exact planner on the allowed cells when
 // the planner's own plan breaks it). With `align`, it keeps to those regions' boundaries where that
-// reaches ε. Empty if no plan on the allowed cells reaches ε.
+// reaches ε. A region on the bed (first_cell 0) starts with the input's fixed first layer. Empty if
+// no plan on the allowed cells reaches ε.
 std::optional<PlanRegion> plan_region(const ZProfile& profile, PlanRegion shape,
                                       std::optional<double> epsilon, const SegOptInput& input,
                                       const std::vector<const PlanRegion*>& meet, const RunContext& run,

@@ -129,8 +129,11 @@ std::vector<Slab> slabs_of(const SegOptInput& in, const Trial& t, int first_cell
   for (int s = 0; s < 2; ++s) add_critical(t.profile[s], t.halves[s].plan, o.critical_jump, critical);
   std::sort(critical.begin(), critical.end());
   std::vector<int> cuts{first_cell};
+  // The fixed first layer's top is no critical height: its jump to the layers above is the printer's.
+  const int fixed_top = first_cell == 0 ? in.first_cells : 0;
   for (int c : critical)
-    if (c > cuts.back() && printable(in.profile, c - cuts.back()) && printable(in.profile, last_cell - c))
+    if (c > cuts.back() && c > fixed_top && printable(in.profile, c - cuts.back()) &&
+        printable(in.profile, last_cell - c))
       cuts.push_back(c);
   cuts.push_back(last_cell);
   std::vector<Slab> slabs;
@@ -258,8 +261,8 @@ int recurse(const SegOptInput& in, const Trial& t, std::vector<PlanRegion>& join
     // The part's budget becomes its own ρ, so its slabs share ε as the whole model's do.
     const double e_coarse = Objective(t.profile[s].window(r.first_cell, r.last_cell), in.metric).e_coarse();
     const double rho = e_coarse > 0 ? r.epsilon / e_coarse : in.rho;
-    SegOptInput sub{slab.mesh, slab.values, t.profile[s], in.metric,    in.planner,
-                    rho,       in.seed,     &r,           in.neighbours};
+    SegOptInput sub{slab.mesh, slab.values, t.profile[s], in.metric,     in.planner,
+                    rho,       in.seed,     &r,           in.neighbours, in.first_cells};
     for (std::size_t q = 0; q < joined.size(); ++q)
       if (q != k) sub.neighbours.push_back(&joined[q]);
     const SegOptResult inner = seg_opt(sub, seconds, next, run);

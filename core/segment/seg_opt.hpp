@@ -46,6 +46,9 @@ struct SegOptInput {
   // budget over its E(coarse)), and the regions beside it whose layers its own must meet.
   const PlanRegion* part = nullptr;
   std::vector<const PlanRegion*> neighbours;
+  // The printer's fixed first layer, in cells (0: free): every region that starts on the bed
+  // starts with it (core/slicing/planners/first_layer_planner), as an unsegmented plan does.
+  int first_cells = 0;
 };
 
 // Estimated printing time (s) of a set of regions printed as one object.

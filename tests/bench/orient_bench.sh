@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# --up auto on the shared models at 80 mm (the paper's setting): the three candidates' estimated
+# --up auto on the shared models at 80 mm (the paper's setting): the candidates' (bases, three axes) estimated
 # minutes (with support), layers, TimeS, VolS, StaS and OS, the chosen one marked; and the model's
 # own up axis sliced the same way (without --up auto, no support) for reference.
 #   tests/bench/orient_bench.sh [BUILD_DIR]

@@ -44,11 +44,12 @@ struct Fixture {
   std::unique_ptr<ZProfile> profile;
   std::unique_ptr<Planner> planner = make_planner("exact");
   RegionSliceSettings settings;
+  int first_cells = 0;  // the fixed first layer
 
   SegOptResult run(std::vector<float> s, const SegOptOptions& options = {}) {
     saliency = std::move(s);
     profile = std::make_unique<ZProfile>(ZProfile::build(mesh, saliency, params));
-    const SegOptInput in{mesh, saliency, *profile, Metric::area, *planner, 0.05, 1, nullptr, {}};
+    const SegOptInput in{mesh, saliency, *profile, Metric::area, *planner, 0.05, 1, nullptr, {}, first_cells};
     return seg_opt(
         in,
         [&](const std::vector<PlanRegion>& r) {
@@ -120,6 +121,25 @@ TEST_CASE("each region of a segmented plan keeps its budget, and the parts of a 
       CHECK(shared <= slab_budget * (1 + 1e-9));
     }
   }
+}
+
+TEST_CASE("a segmented plan starts with the printer's fixed first layer, on both sides of the cut") {
+  Fixture f;
+  f.first_cells = 20;  // generic-i3's 0.2 mm on the 0.01 mm grid; free layers start at α = 0.1 mm
+  const SegOptResult r = f.run(halves(f.mesh, f.printer.bed_center_x(), 0.02f));
+  INFO(r.note);
+  REQUIRE(r.cut);
+  CHECK(check_regions(*f.profile, r.regions) == "");
+  int on_bed = 0;
+  for (const PlanRegion& region : r.regions) {
+    if (region.first_cell != 0) continue;
+    ++on_bed;
+    REQUIRE(region.plan.boundaries.size() > 1);
+    CHECK(region.plan.boundaries[1] == 20);
+    CHECK(region.error <= region.epsilon * (1 + 1e-9) + 1e-12);
+  }
+  CHECK(on_bed >= 1);
+  for (const PlanRegion& part : r.parts) CHECK(part.plan.boundaries[1] == 20);  // T1 + T2's plans too
 }
 
 TEST_CASE("a sphere is not cut: uniform saliency, and the saliency of its own shape") {
