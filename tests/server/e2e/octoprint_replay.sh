@@ -76,6 +76,23 @@ d = a["dimensions"]
 assert abs(d["height"] - (top - first)) < 1e-6, (d, top, first)  # OctoPrint: extruding z, first to last
 # A 10 mm cube and the skirt around it (a few mm off): OctoPrint's area takes every extrusion.
 assert top <= d["width"] < top + 10 and top <= d["depth"] < top + 10, d
+# The thumbnails as the readers of PrusaSlicer's blocks take them (Moonraker's metadata.py, the
+# OctoPrint PrusaSlicer Thumbnails plugin): that regex, '; ' dropped, "W H LENGTH" equal to the
+# data's length; then the PNG's signature and its IHDR size.
+import base64, struct
+blocks = re.findall(r"; thumbnail begin[;/\+=\w\s]+?; thumbnail end", text)
+sizes = []
+for block in blocks:
+    lines = re.split(r"\r?\n", block.replace("; ", ""))
+    w, hh, length = map(int, re.findall(r"\d+", lines[0]))
+    data = "".join(lines[1:-1])
+    assert len(data) == length, (lines[0], len(data))
+    png = base64.b64decode(data, validate=True)
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and png[12:16] == b"IHDR", png[:16]
+    assert struct.unpack(">II", png[16:24]) == (w, hh), (w, hh)
+    sizes.append((w, hh))
+assert sizes == [(16, 16), (220, 124)], sizes
+assert text.index("; thumbnail end") < text.index("\nM73 "), "thumbnails after the first command"
 PY
 
 # Cura: its sequence of calls, an upload that selects without printing, then starts the job.
