@@ -26,7 +26,7 @@ constexpr std::size_t kMaxThumbnails = 8;
 // "gcode.thumbnails": an array of "WIDTHxHEIGHT" strings, e.g. ["16x16", "220x124"].
 std::vector<ThumbnailSize> read_thumbnail_sizes(TableReader& r) {
   std::vector<ThumbnailSize> sizes;
-  const toml::array* list = r.array("thumbnails");
+  const toml::array* list = r.array("thumbnails", "a list of sizes like [\"16x16\", \"220x124\"]");
   if (!list) return {{16, 16}, {220, 124}};
   if (list->size() > kMaxThumbnails)
     r.fail(*list, "thumbnails",

@@ -82,7 +82,8 @@ TEST_CASE("G-code thumbnail sizes: PrusaSlicer's defaults, a list of WxH, mistak
   CHECK(parse_printer_profile("[gcode]\nthumbnails = []\n", "p.toml").thumbnails.empty());
   for (const auto& id : builtin_printer_ids()) CHECK(!builtin_printer(id)->thumbnails.empty());
   CHECK_THROWS_WITH_AS(parse_printer_profile("[gcode]\nthumbnails = \"16x16\"\n", "p.toml"),
-                       "p.toml:2: 'gcode.thumbnails' must be an array ([[thumbnails]])", InputError);
+                       "p.toml:2: 'gcode.thumbnails' must be a list of sizes like [\"16x16\", \"220x124\"]",
+                       InputError);
   CHECK_THROWS_WITH_AS(parse_printer_profile("[gcode]\nthumbnails = [16]\n", "p.toml"),
                        "p.toml:2: 'gcode.thumbnails' must be a list of strings like \"220x124\"", InputError);
   CHECK_THROWS_WITH_AS(parse_printer_profile("[gcode]\nthumbnails = [\"16x16\", \"220*124\"]\n", "p.toml"),
