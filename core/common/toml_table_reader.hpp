@@ -76,10 +76,12 @@ class TableReader {
     if (!n->is_table()) fail(*n, key, "must be a table");
     return n->as_table();
   }
-  const toml::array* array(const char* key) {
+  // `shape` describes what the array holds, for the error (default: an array of tables).
+  const toml::array* array(const char* key, const std::string& shape = {}) {
     const toml::node* n = find(key);
     if (!n) return nullptr;
-    if (!n->is_array()) fail(*n, key, "must be an array ([[" + std::string(key) + "]])");
+    if (!n->is_array())
+      fail(*n, key, shape.empty() ? "must be an array ([[" + std::string(key) + "]])" : "must be " + shape);
     return n->as_array();
   }
   void reject_unknown() const {

@@ -135,6 +135,15 @@ CommandTiming command_text(std::string_view line) {
   return c;
 }
 
+void extend_printing_area(GcodeEstimate& out, const double* from, const double* to) {
+  for (int k = 0; k < 3; ++k) {
+    const double lo = std::min(from[k], to[k]), hi = std::max(from[k], to[k]);
+    out.printing_min[k] = out.printed ? std::min(out.printing_min[k], lo) : lo;
+    out.printing_max[k] = out.printed ? std::max(out.printing_max[k], hi) : hi;
+  }
+  out.printed = true;
+}
+
 }  // namespace
 
 GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, MachineLimits limits,
@@ -199,6 +208,7 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
         }
       }
       out.filament_mm += d[3];  // a retraction subtracts what its unretraction adds back
+      if (d[3] > 0 && length > 0) extend_printing_area(out, pos, target);
       const double span = length > 0 ? length : std::fabs(d[3]);
       std::copy(target, target + 4, pos);
       if (!(span > 1e-9)) continue;

@@ -28,6 +28,10 @@ struct GcodeEstimate {
   // Split at ;LAYER_CHANGE / ;LAYER: comments (one layer if none); what comes before the first
   // mark (the start code) counts with the first layer.
   std::vector<double> layer_seconds;
+  // OctoPrint's printing area: the box of the extruding moves' ends (an arc's bulge past its ends
+  // is left out), mm; only when `printed`.
+  bool printed = false;
+  double printing_min[3] = {0, 0, 0}, printing_max[3] = {0, 0, 0};
 };
 
 // One command of a file (a line with a G, M or T word), as the planner times it and a host sends it.

@@ -13,6 +13,7 @@
 #include "core/pipeline/auto_orient.hpp"
 #include "core/pipeline/plan_report.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
+#include "core/render/model_thumbnail.hpp"
 #include "core/render/saliency_preview.hpp"
 #include "core/segment/regions_svg.hpp"
 #include "core/slicing/plan_svg.hpp"
@@ -182,6 +183,10 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
                     std::to_string(out.finest_layers) + "), E " + std::to_string(out.error) + ", RSMD " +
                     std::to_string(out.rsmd)};
   if (out.segmentation) gs.summary.push_back("segmentation = " + out.segmentation->note);
+  // The model as placed on the bed, so the thumbnail shows it standing as it prints.
+  for (const ThumbnailSize& size : printer.thumbnails)
+    gs.thumbnails.push_back({size.width, size.height,
+                             png_bytes(render_thumbnail(setup->model.loaded.mesh, size.width, size.height))});
   GcodeResult g = write_gcode(toolpaths, printer, gs);
   out.gcode = std::move(g.text);
   out.print_seconds = g.seconds;

@@ -2,6 +2,7 @@
 // through a table of known keys; anything left over is an error that names it and its line.
 #include "core/printer/printer_profile.hpp"
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <utility>
@@ -17,6 +18,37 @@ namespace {
 // The one name table of the G-code flavours.
 constexpr NameTable<GcodeFlavor, 3> kFlavorNames{
     {{GcodeFlavor::marlin, "marlin"}, {GcodeFlavor::reprap, "reprap"}, {GcodeFlavor::sailfish, "sailfish"}}};
+
+// PrusaSlicer's limits for one thumbnail side, and a bound on how many (each is in every file).
+constexpr int kMaxThumbnailSide = 2048;
+constexpr std::size_t kMaxThumbnails = 8;
+
+// "gcode.thumbnails": an array of "WIDTHxHEIGHT" strings, e.g. ["16x16", "220x124"].
+std::vector<ThumbnailSize> read_thumbnail_sizes(TableReader& r) {
+  std::vector<ThumbnailSize> sizes;
+  const toml::array* list = r.array("thumbnails", "a list of sizes like [\"16x16\", \"220x124\"]");
+  if (!list) return {{16, 16}, {220, 124}};
+  if (list->size() > kMaxThumbnails)
+    r.fail(*list, "thumbnails",
+           "has " + std::to_string(list->size()) + " sizes, at most " + std::to_string(kMaxThumbnails) +
+               " are allowed");
+  for (const toml::node& item : *list) {
+    const auto text = item.value<std::string>();
+    if (!text) r.fail(item, "thumbnails", "must be a list of strings like \"220x124\"");
+    ThumbnailSize size;
+    char x = 0, tail = 0;
+    if (std::sscanf(text->c_str(), "%d%c%d%c", &size.width, &x, &size.height, &tail) != 3 || x != 'x')
+      r.fail(item, "thumbnails", "entry '" + *text + "' must be WIDTHxHEIGHT, e.g. \"220x124\"");
+    if (size.width < 1 || size.height < 1 || size.width > kMaxThumbnailSide ||
+        size.height > kMaxThumbnailSide)
+      r.fail(item, "thumbnails",
+             "entry '" + *text + "': width and height must be between 1 and " +
+                 std::to_string(kMaxThumbnailSide));
+    sizes.push_back(size);
+  }
+  return sizes;
+}
+
 }  // namespace
 
 std::optional<GcodeFlavor> parse_gcode_flavor(std::string_view name) {
@@ -76,6 +108,7 @@ PrinterProfile parse_printer_profile(std::string_view text, const std::string& s
     r.text("end", p.end_gcode);
     r.number("resolution", p.gcode_resolution, 0.0001, 1.0);
     r.boolean("arc_fitting", p.arc_fitting);
+    p.thumbnails = read_thumbnail_sizes(r);
   });
   read_section(top, "infill", source,
                [&](TableReader& r) { r.number("solid_below_area", p.solid_infill_below_area, 0.0, 1e6); });

@@ -15,6 +15,12 @@ enum class GcodeFlavor { marlin, reprap, sailfish };
 std::optional<GcodeFlavor> parse_gcode_flavor(std::string_view name);
 std::string_view gcode_flavor_name(GcodeFlavor flavor);
 
+// A thumbnail size written into the G-code, pixels (PrusaSlicer's "thumbnails" setting).
+struct ThumbnailSize {
+  int width = 0, height = 0;
+  bool operator==(const ThumbnailSize&) const = default;
+};
+
 struct PrinterProfile {
   std::string id;    // file stem, e.g. "replicator2x"
   std::string name;  // for people
@@ -40,6 +46,9 @@ struct PrinterProfile {
   double solid_infill_below_area = 70;  // mm²: regions smaller than this are filled solid (PrusaSlicer's)
   int baud = 115200;                    // the USB serial link's rate, what a file's stream must fit
   std::string start_gcode, end_gcode;   // templates: {extruder_temperature}, {bed_temperature}, …
+  // Thumbnails of the model written into the G-code's header ("gcode.thumbnails"): a printer
+  // screen's icon and PrusaSlicer's default preview; empty: none.
+  std::vector<ThumbnailSize> thumbnails{{16, 16}, {220, 124}};
 
   double bed_center_x() const { return origin_at_center ? 0 : bed_width / 2; }
   double bed_center_y() const { return origin_at_center ? 0 : bed_depth / 2; }

@@ -3,6 +3,8 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
+#include <string_view>
 #include <vector>
 
 namespace salient::core {
@@ -18,5 +20,12 @@ struct Image {
 
 // Throws InputError if the file cannot be written.
 void write_png(const std::filesystem::path& path, const Image& image);
+
+// The PNG file's bytes, for embedding (a G-code thumbnail, an API response).
+std::string png_bytes(const Image& image);
+
+// Decodes a PNG (any bit depth or colour type, alpha dropped) to RGB. Throws InputError naming
+// `source` if the bytes are not a valid PNG: what a reader of our thumbnails would see.
+Image decode_png(std::string_view bytes, const std::string& source);
 
 }  // namespace salient::core

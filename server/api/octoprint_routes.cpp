@@ -2,9 +2,14 @@
 // mapped onto the first configured printer: version/server/login/settings for the connection
 // test, files/local for the upload (with select and print), job and printer for status, and
 // printer/command. Only what those clients read is filled in, with OctoPrint's field names.
+#include <cmath>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
+#include <optional>
 
+#include "core/common/input_error.hpp"
+#include "core/gcode/time_estimator.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "server/api/api_json.hpp"
 #include "server/api/routes.hpp"
@@ -17,10 +22,13 @@ namespace {
 
 using nlohmann::json;
 
-// What OctoPrint keeps between requests: the selected file.
+// What OctoPrint keeps between requests: the selected file, and the analyses of stored files by
+// digest (content-addressed, so never stale; bounded, as files come and go).
 struct OctoState {
+  static constexpr std::size_t kMaxAnalyses = 1024;
   std::mutex mutex;
   std::string selected;
+  std::map<std::string, json> analyses;
 };
 
 bool is_gcode(const std::string& name) {
@@ -55,6 +63,63 @@ json file_json(const StoredFile& f, const HttpRequest& r) {
           {"refs",
            {{"resource", base + "/api/files/local/" + f.name},
             {"download", base + "/downloads/files/local/" + f.name}}}};
+}
+
+// The first printer's profile, for what a file alone does not say (filament diameter, limits).
+core::PrinterProfile first_profile(PrinterService& printers) {
+  const Printer* p = printers.first();
+  return p ? core::builtin_printer(p->config().profile).value_or(core::PrinterProfile{})
+           : core::PrinterProfile{};
+}
+
+// OctoPrint's gcodeAnalysis (what its analysis queue stores with a file and FDM Monster, OctoPod
+// and Cura show): estimatedPrintTime (s), filament.tool0 length (mm) and volume (cm³), and the
+// printing area and its dimensions (mm), from our estimator. Limits the file sets (ours always
+// do) override the profile's. nullopt for a file that cannot be read or is not G-code: OctoPrint
+// then lists the file without one.
+std::optional<json> analyse_file(Store& store, const StoredFile& f, const core::PrinterProfile& profile) {
+  core::GcodeEstimate e;
+  try {
+    core::MachineLimits limits;
+    limits.acceleration = limits.travel_acceleration = limits.retract_acceleration = profile.acceleration;
+    limits.jerk[0] = limits.jerk[1] = profile.jerk;
+    e = core::estimate_gcode(store.files().read(f.digest), f.name, limits);
+  } catch (const core::InputError&) {
+    return std::nullopt;
+  } catch (const StoreError&) {
+    return std::nullopt;
+  }
+  const double area = M_PI * profile.filament_diameter * profile.filament_diameter / 4;
+  json out = {
+      {"estimatedPrintTime", e.seconds},
+      {"filament", {{"tool0", {{"length", e.filament_mm}, {"volume", e.filament_mm * area / 1000}}}}}};
+  if (e.printed) {
+    const double* lo = e.printing_min;
+    const double* hi = e.printing_max;
+    out["printingArea"] = {{"minX", lo[0]}, {"maxX", hi[0]}, {"minY", lo[1]},
+                           {"maxY", hi[1]}, {"minZ", lo[2]}, {"maxZ", hi[2]}};
+    out["dimensions"] = {{"width", hi[0] - lo[0]}, {"depth", hi[1] - lo[1]}, {"height", hi[2] - lo[2]}};
+  }
+  return out;
+}
+
+// file_json with the file's gcodeAnalysis, computed once per content.
+json file_json_analysed(const StoredFile& f, const HttpRequest& r, Store& store, PrinterService& printers,
+                        OctoState& octo) {
+  json out = file_json(f, r);
+  {
+    std::lock_guard lock(octo.mutex);
+    if (const auto it = octo.analyses.find(f.digest); it != octo.analyses.end()) {
+      if (!it->second.is_null()) out["gcodeAnalysis"] = it->second;
+      return out;
+    }
+  }
+  const std::optional<json> analysis = analyse_file(store, f, first_profile(printers));
+  std::lock_guard lock(octo.mutex);
+  if (octo.analyses.size() >= OctoState::kMaxAnalyses) octo.analyses.clear();
+  octo.analyses[f.digest] = analysis.value_or(json());
+  if (analysis) out["gcodeAnalysis"] = *analysis;
+  return out;
 }
 
 std::string state_text(const PrinterStatus& s) {
@@ -216,18 +281,19 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
         out.headers.emplace_back("Location", f["refs"]["resource"].get<std::string>());
         return out;
       });
-  const auto list_files = [&store](const HttpRequest& r, const PathParams&) {
+  const auto list_files = [&store, &printers, octo](const HttpRequest& r, const PathParams&) {
     json files = json::array();
-    for (const StoredFile& f : PrintStore(store.db()).files()) files.push_back(file_json(f, r));
+    for (const StoredFile& f : PrintStore(store.db()).files())
+      files.push_back(file_json_analysed(f, r, store, printers, *octo));
     return json_response(200, {{"files", files}, {"free", nullptr}});
   };
   router.add("GET", "/api/files", Access::key, list_files);
   router.add("GET", "/api/files/local", Access::key, list_files);
   router.add("GET", "/api/files/local/{name}", Access::key,
-             [&store](const HttpRequest& r, const PathParams& p) {
+             [&store, &printers, octo](const HttpRequest& r, const PathParams& p) {
                const auto f = PrintStore(store.db()).file(p.at("name"));
                if (!f) throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
-               return json_response(200, file_json(*f, r));
+               return json_response(200, file_json_analysed(*f, r, store, printers, *octo));
              });
   router.add("DELETE", "/api/files/local/{name}", Access::key,
              [&store](const HttpRequest&, const PathParams& p) {

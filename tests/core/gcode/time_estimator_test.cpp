@@ -121,3 +121,19 @@ TEST_CASE("per-command timings: one per command, in order, summing to the total"
   CHECK(commands[3].seconds == 0);
   CHECK(commands[1].seconds == doctest::Approx(trapezoid(100, 100, 1000, 10)).epsilon(1e-9));
 }
+
+TEST_CASE("the printing area is the box of the extruding moves, as OctoPrint's analysis gives it") {
+  // Travels (to the corner, up to z 20) and a retraction lie outside it; relative moves count.
+  const GcodeEstimate e = estimate_gcode(
+      "G28\nG1 Z0.3 F600\nG0 X10 Y20\nG1 X40 Y20 E1.5\nG1 E-0.8\nG0 X0 Y0\nG1 E0.8\nG91\nG1 X5 Y7 Z0.2 E0.2\n"
+      "G90\nG0 Z20\n",
+      "t");
+  REQUIRE(e.printed);
+  CHECK(e.printing_min[0] == doctest::Approx(0));
+  CHECK(e.printing_max[0] == doctest::Approx(40));
+  CHECK(e.printing_min[1] == doctest::Approx(0));
+  CHECK(e.printing_max[1] == doctest::Approx(20));
+  CHECK(e.printing_min[2] == doctest::Approx(0.3));
+  CHECK(e.printing_max[2] == doctest::Approx(0.5));
+  CHECK_FALSE(estimate_gcode("G28\nG0 X10 Y10\nG1 E5\n", "t").printed);  // priming in place prints no area
+}

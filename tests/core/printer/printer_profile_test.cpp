@@ -74,3 +74,28 @@ TEST_CASE("the first layer, the baseline height, the G-code resolution, small so
   CHECK_THROWS_WITH_AS(parse_printer_profile("[connection]\nbaud = 0\n", "p.toml"),
                        "p.toml:2: 'connection.baud' must be between 1200 and 4000000", InputError);
 }
+
+TEST_CASE("G-code thumbnail sizes: PrusaSlicer's defaults, a list of WxH, mistakes named") {
+  CHECK(parse_printer_profile("", "p.toml").thumbnails == std::vector<ThumbnailSize>{{16, 16}, {220, 124}});
+  CHECK(parse_printer_profile("[gcode]\nthumbnails = [\"32x32\", \"400x300\"]\n", "p.toml").thumbnails ==
+        std::vector<ThumbnailSize>{{32, 32}, {400, 300}});
+  CHECK(parse_printer_profile("[gcode]\nthumbnails = []\n", "p.toml").thumbnails.empty());
+  for (const auto& id : builtin_printer_ids()) CHECK(!builtin_printer(id)->thumbnails.empty());
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[gcode]\nthumbnails = \"16x16\"\n", "p.toml"),
+                       "p.toml:2: 'gcode.thumbnails' must be a list of sizes like [\"16x16\", \"220x124\"]",
+                       InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[gcode]\nthumbnails = [16]\n", "p.toml"),
+                       "p.toml:2: 'gcode.thumbnails' must be a list of strings like \"220x124\"", InputError);
+  CHECK_THROWS_WITH_AS(parse_printer_profile("[gcode]\nthumbnails = [\"16x16\", \"220*124\"]\n", "p.toml"),
+                       "p.toml:2: 'gcode.thumbnails' entry '220*124' must be WIDTHxHEIGHT, e.g. \"220x124\"",
+                       InputError);
+  CHECK_THROWS_WITH_AS(
+      parse_printer_profile("[gcode]\nthumbnails = [\"0x16\"]\n", "p.toml"),
+      "p.toml:2: 'gcode.thumbnails' entry '0x16': width and height must be between 1 and 2048", InputError);
+  CHECK_THROWS_AS(parse_printer_profile("[gcode]\nthumbnails = [\"16x16x2\"]\n", "p.toml"), InputError);
+  CHECK_THROWS_WITH_AS(
+      parse_printer_profile(
+          "[gcode]\nthumbnails = [\"1x1\",\"1x1\",\"1x1\",\"1x1\",\"1x1\",\"1x1\",\"1x1\",\"1x1\",\"1x1\"]\n",
+          "p.toml"),
+      "p.toml:2: 'gcode.thumbnails' has 9 sizes, at most 8 are allowed", InputError);
+}

@@ -52,6 +52,48 @@ grep -qi "^location: http://127.0.0.1:[0-9]*/api/files/local/cube.gcode" headers
 [ "$(field "['done']" < upload.json)" = True ] && [ "$(field "['effectivePrint']" < upload.json)" = True ] || fail "upload body"
 wait_idle cube.gcode
 same_commands cube.gcode sim.log
+# The file as OctoPrint lists it (FDM Monster, OctoPod and Cura read gcodeAnalysis): our estimate,
+# the filament the header states, and the cube's printing area; the same in the listing.
+curl -s -f -H "X-Api-Key: $key" -o file.json "$base/api/files/local/cube.gcode" || fail "file details"
+curl -s -f -H "X-Api-Key: $key" -o files.json "$base/api/files/local" || fail "file list"
+python3 - cube.gcode file.json files.json <<'PY' || fail "gcodeAnalysis: $(cat file.json)"
+import json, re, sys
+text = open(sys.argv[1]).read()
+a = json.load(open(sys.argv[2]))["gcodeAnalysis"]
+listed = [f for f in json.load(open(sys.argv[3]))["files"] if f["name"] == "cube.gcode"][0]
+assert listed["gcodeAnalysis"] == a, listed
+header_mm = float(re.search(r"\n; filament used \[mm\] = ([0-9.]+)\n", text).group(1))
+h, m, s = re.search(r"\n; estimated printing time \(normal mode\) = (?:(\d+)h )?(?:(\d+)m )?(\d+)s\n", text).groups()
+header_s = int(h or 0) * 3600 + int(m or 0) * 60 + int(s)
+top = float(re.search(r"\n; max_layer_z = ([0-9.]+)\n", text).group(1))
+first = float(re.search(r"\n; first_layer_height = ([0-9.]+)\n", text).group(1))
+tool0 = a["filament"]["tool0"]
+assert abs(tool0["length"] - header_mm) < 0.01 * header_mm, (tool0, header_mm)
+assert abs(tool0["volume"] - header_mm * 3.14159265 * 1.75 ** 2 / 4 / 1000) < 0.01 * tool0["volume"], tool0
+# The whole file (start code too) against the writer's estimate of the layers: within 5 %.
+assert abs(a["estimatedPrintTime"] - header_s) <= 0.05 * header_s + 1, (a["estimatedPrintTime"], header_s)
+d = a["dimensions"]
+assert abs(d["height"] - (top - first)) < 1e-6, (d, top, first)  # OctoPrint: extruding z, first to last
+# A 10 mm cube and the skirt around it (a few mm off): OctoPrint's area takes every extrusion.
+assert top <= d["width"] < top + 10 and top <= d["depth"] < top + 10, d
+# The thumbnails as the readers of PrusaSlicer's blocks take them (Moonraker's metadata.py, the
+# OctoPrint PrusaSlicer Thumbnails plugin): that regex, '; ' dropped, "W H LENGTH" equal to the
+# data's length; then the PNG's signature and its IHDR size.
+import base64, struct
+blocks = re.findall(r"; thumbnail begin[;/\+=\w\s]+?; thumbnail end", text)
+sizes = []
+for block in blocks:
+    lines = re.split(r"\r?\n", block.replace("; ", ""))
+    w, hh, length = map(int, re.findall(r"\d+", lines[0]))
+    data = "".join(lines[1:-1])
+    assert len(data) == length, (lines[0], len(data))
+    png = base64.b64decode(data, validate=True)
+    assert png[:8] == b"\x89PNG\r\n\x1a\n" and png[12:16] == b"IHDR", png[:16]
+    assert struct.unpack(">II", png[16:24]) == (w, hh), (w, hh)
+    sizes.append((w, hh))
+assert sizes == [(16, 16), (220, 124)], sizes
+assert text.index("; thumbnail end") < text.index("\nM73 "), "thumbnails after the first command"
+PY
 
 # Cura: its sequence of calls, an upload that selects without printing, then starts the job.
 for path in /api/settings /api/version /api/printerprofiles /api/printer /api/job /api/server /api/files; do
