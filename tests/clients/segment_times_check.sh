@@ -16,7 +16,10 @@ for model in cow.obj spot.obj; do
 import json, re, sys
 plan = json.load(open("plan.json"))
 gcode = open("slice.gcode").read()
-sliced = float(re.search(r"; estimated printing time = (\d+) s", gcode).group(1))
+# PrusaSlicer's form, "1d 2h 3m 4s" with the leading parts left out when zero
+d, h, m, s = (int(g or 0) for g in re.search(
+    r"\n; estimated printing time \(normal mode\) = (?:(\d+)d )?(?:(\d+)h )?(?:(\d+)m )?(\d+)s\n", gcode).groups())
+sliced = float(((d * 24 + h) * 60 + m) * 60 + s)
 planned = plan["segmentation"]["seconds"]
 print("%s: plan --segment %.0f s, slice --segment %.0f s (%+.2f %%)" % (sys.argv[1], planned, sliced, 100 * (planned / sliced - 1)))
 assert abs(planned / sliced - 1) < 0.005, (planned, sliced)
