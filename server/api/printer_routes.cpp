@@ -17,6 +17,52 @@ HttpResponse status(int code, const Printer& p) {
   return json_response(code, printer_status_json(p.status()));
 }
 
+long long entry_id(const PathParams& p) {
+  const std::string& text = p.at("entry");
+  if (text.empty() || text.size() > 18 || text.find_first_not_of("0123456789") != std::string::npos)
+    throw ApiError(404, "not_found", "no queue entry '" + text.substr(0, 40) + "'");
+  return std::stoll(text);
+}
+
+// …/queue: list, next (the bed is clear), remove and move entries.
+void add_queue_routes(Router& router, PrinterService& printers, const DaemonConfig& config) {
+  const auto listing = [&printers](const Printer& printer) {
+    json out = print_queue_json(printer.id(), printers.queue(printer));
+    out["auto_start"] = printer.config().auto_start;
+    return out;
+  };
+  router.add("GET", "/api/v1/printers/{id}/queue", Access::key,
+             [&printers, listing](const HttpRequest&, const PathParams& p) {
+               return json_response(200, listing(printers.get(p.at("id"))));
+             });
+  router.add("POST", "/api/v1/printers/{id}/queue/next", Access::key,
+             [&printers](const HttpRequest&, const PathParams& p) {
+               Printer& printer = printers.get(p.at("id"));
+               const auto [print, entry] = printers.next(printer);
+               json out = printer_status_json(printer.status());
+               out["started"] = {{"entry", entry.id}, {"print", print}};
+               return json_response(202, out);
+             });
+  router.add("DELETE", "/api/v1/printers/{id}/queue/{entry}", Access::key,
+             [&printers, listing](const HttpRequest&, const PathParams& p) {
+               Printer& printer = printers.get(p.at("id"));
+               printers.remove_queued(printer, entry_id(p));
+               return json_response(200, listing(printer));
+             });
+  router.add(
+      "POST", "/api/v1/printers/{id}/queue/{entry}/move", Access::key,
+      [&printers, &config, listing](const HttpRequest& r, const PathParams& p) {
+        Printer& printer = printers.get(p.at("id"));
+        const long long entry = entry_id(p);
+        const json body =
+            parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
+        if (!body.is_object() || !body.contains("position") || !body.at("position").is_number_integer())
+          throw ApiError(400, "bad_request", "expected {\"position\": N}, N from 1");
+        printers.move_queued(printer, entry, body.at("position").get<long long>());
+        return json_response(200, listing(printer));
+      });
+}
+
 }  // namespace
 
 std::vector<std::string> parse_commands(const json& body) {
@@ -100,29 +146,34 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
              });
   // {"job": ID} prints a finished job's G-code, {"file": NAME} an uploaded file, {"resume": PRINT}
   // the rest of an interrupted print (heaters, position and modes restored first).
-  router.add("POST", "/api/v1/printers/{id}/print", Access::key,
-             [&printers, &config](const HttpRequest& r, const PathParams& p) {
-               Printer& printer = printers.get(p.at("id"));
-               const json body =
-                   parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
-               long long print = 0;
-               if (body.size() != 1)
-                 throw ApiError(400, "bad_request", "give exactly one of 'job', 'file' and 'resume'");
-               if (body.contains("job") && body.at("job").is_string()) {
-                 print = printers.print_job(printer, body.at("job").get<std::string>());
-               } else if (body.contains("file") && body.at("file").is_string()) {
-                 print = printers.print_file(printer, body.at("file").get<std::string>());
-               } else if (body.contains("resume") && body.at("resume").is_number_integer()) {
-                 print = printers.resume(printer, body.at("resume").get<long long>());
-               } else {
-                 throw ApiError(400, "bad_request",
-                                "expected {\"job\": \"ID\"}, {\"file\": \"NAME\"} or {\"resume\": PRINT_ID}");
-               }
-               HttpResponse out = status(202, printer);
-               out.headers.emplace_back(
-                   "Location", "/api/v1/printers/" + printer.id() + "/prints?print=" + std::to_string(print));
-               return out;
-             });
+  router.add(
+      "POST", "/api/v1/printers/{id}/print", Access::key,
+      [&printers, &config](const HttpRequest& r, const PathParams& p) {
+        Printer& printer = printers.get(p.at("id"));
+        const json body =
+            parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
+        if (body.size() != 1)
+          throw ApiError(400, "bad_request", "give exactly one of 'job', 'file' and 'resume'");
+        PrintSubmission sent;
+        if (body.contains("job") && body.at("job").is_string()) {
+          sent = printers.submit_job(printer, body.at("job").get<std::string>());
+        } else if (body.contains("file") && body.at("file").is_string()) {
+          sent = printers.submit_file(printer, body.at("file").get<std::string>());
+        } else if (body.contains("resume") && body.at("resume").is_number_integer()) {
+          sent.print = printers.resume(printer, body.at("resume").get<long long>());
+        } else {
+          throw ApiError(400, "bad_request",
+                         "expected {\"job\": \"ID\"}, {\"file\": \"NAME\"} or {\"resume\": PRINT_ID}");
+        }
+        if (sent.queued)
+          return json_response(
+              202, {{"queued", true}, {"position", sent.queued->position}, {"entry", sent.queued->id}});
+        HttpResponse out = status(202, printer);
+        out.headers.emplace_back(
+            "Location", "/api/v1/printers/" + printer.id() + "/prints?print=" + std::to_string(sent.print));
+        return out;
+      });
+  add_queue_routes(router, printers, config);
   const std::pair<const char*, void (Printer::*)()> actions[] = {
       {"pause", &Printer::pause},
       {"resume", &Printer::resume},

@@ -96,6 +96,7 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
       if (r.has("sim_args")) r.text("sim_args", sim_args.emplace());
       r.text("machine", p.machine);
       r.boolean("autoconnect", p.autoconnect);
+      r.boolean("auto_start", p.auto_start);
       r.reject_unknown();
       const InputLocation at = InputLocation::at_line(core::line_of(n));
       if (p.id.empty() ||

@@ -27,6 +27,9 @@ struct PrinterConfig {
   std::string sim_args = default_sim_args(PrinterProtocol::marlin);
   std::string machine = "r2x";  // s3g: the machine definition (steps/mm, feed limits) of the x3g
   bool autoconnect = true;      // connect when the daemon starts
+  // Start the next queued print as soon as one ends, without waiting for POST …/queue/next:
+  // for printers that clear their own bed (an auto-eject, a belt).
+  bool auto_start = false;
 };
 
 inline PrinterConfig sim_printer() {

@@ -10,7 +10,7 @@
 namespace salient::server {
 
 PrinterService::PrinterService(const DaemonConfig& config, Store& store, PrinterEvents events)
-    : store_(store) {
+    : store_(store), queue_changed_(std::move(events.queue_changed)) {
   // Prints a previous run left unfinished: interrupted, before any printer reads its last print.
   const double now =
       std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
@@ -26,9 +26,10 @@ PrinterService::PrinterService(const DaemonConfig& config, Store& store, Printer
       history.add({t, s.hotend, s.bed});
     }
     if (publish) publish(printer, progress);
+    if (!progress && printer.config().auto_start) auto_start(get(printer.id()));
   };
   for (const PrinterConfig& p : config.printers) {
-    printers_.push_back(std::make_unique<Printer>(p, store_, events));
+    printers_.push_back(std::make_unique<Printer>(p, store_, static_cast<const Printer::Hooks&>(events)));
   }
 }
 

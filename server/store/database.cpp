@@ -63,6 +63,18 @@ CREATE TABLE files (
   uploaded_at REAL NOT NULL
 );
 )sql",
+    // 3: each printer's print queue: requests that found the printer busy, waiting their turn.
+    R"sql(
+CREATE TABLE print_queue (
+  id INTEGER PRIMARY KEY AUTOINCREMENT,
+  printer_id TEXT NOT NULL,
+  kind TEXT NOT NULL CHECK (kind IN ('job', 'file')),
+  ref TEXT NOT NULL,
+  position INTEGER NOT NULL,
+  created_at REAL NOT NULL
+);
+CREATE INDEX print_queue_by_printer ON print_queue (printer_id, position);
+)sql",
 };
 
 }  // namespace
