@@ -228,6 +228,7 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     settings.slice.artefacts = true;
     settings.slice.plan.saliency_cache = &saliency_cache_;
     const core::SliceResult r = core::slice_model(settings.slice, printer, run);
+    run.check();  // a cancel that came as the slicing ended: nothing is stored
     const std::string gcode = store_.files().put(r.gcode);
     const std::string plan_digest = store_.files().put(core::plan_json(r.plan));  // as `salient plan -o`
     result = json_text(
@@ -270,6 +271,8 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     std::lock_guard lock(mutex_);
     running_.erase(job.id);
     shutting_down = stopping_;
+    // cancel() said yes once the token was set, however late: the job ends cancelled, not done.
+    if (token->cancelled() && end == JobState::done) end = JobState::cancelled, result.reset();
   }
   if (end == JobState::cancelled && shutting_down) return;  // interrupted by a stop: re-queued next start
   // A full disk may free up: the outcome is retried for a while; if it never lands, the job is
