@@ -8,6 +8,8 @@
 #include <limits>
 #include <vector>
 
+#include "core/render/triangle_raster.hpp"
+
 namespace salient::core {
 namespace {
 
@@ -41,8 +43,7 @@ Image render_thumbnail(const Mesh& mesh, int width, int height) {
   const double cu = (u0 + u1) / 2, cv = (v0 + v1) / 2;
   const Vec3 light =
       (cam.toward + cam.up * 0.5 - cam.right * 0.4) / norm(cam.toward + cam.up * 0.5 - cam.right * 0.4);
-  std::vector<double> zbuf(static_cast<std::size_t>(img.width) * img.height,
-                           -std::numeric_limits<double>::infinity());
+  DepthBuffer depth(0, img.width, img.height);
   for (std::size_t t = 0; t < mesh.triangle_count(); ++t) {
     const Triangle& tri = mesh.triangles[t];
     double X[3], Y[3], D[3];
@@ -52,30 +53,14 @@ Image render_thumbnail(const Mesh& mesh, int width, int height) {
       Y[k] = img.height / 2.0 - (dot(p, cam.up) - cv) * scale;
       D[k] = dot(p, cam.toward);
     }
-    const double area = (X[1] - X[0]) * (Y[2] - Y[0]) - (X[2] - X[0]) * (Y[1] - Y[0]);
-    if (std::fabs(area) < 1e-12) continue;
     // Two-sided: meshes with flipped faces still read as solid.
     const double shade = 0.3 + 0.7 * std::fabs(dot(unit_normal(mesh, t), light));
-    const int xmin = std::max(0, static_cast<int>(std::floor(std::min({X[0], X[1], X[2]}))));
-    const int xmax = std::min(img.width - 1, static_cast<int>(std::ceil(std::max({X[0], X[1], X[2]}))));
-    const int ymin = std::max(0, static_cast<int>(std::floor(std::min({Y[0], Y[1], Y[2]}))));
-    const int ymax = std::min(img.height - 1, static_cast<int>(std::ceil(std::max({Y[0], Y[1], Y[2]}))));
-    for (int y = ymin; y <= ymax; ++y)
-      for (int x = xmin; x <= xmax; ++x) {
-        const double px = x + 0.5, py = y + 0.5;
-        const double w0 = ((X[1] - px) * (Y[2] - py) - (X[2] - px) * (Y[1] - py)) / area;
-        const double w1 = ((X[2] - px) * (Y[0] - py) - (X[0] - px) * (Y[2] - py)) / area;
-        const double w2 = 1 - w0 - w1;
-        if (w0 < 0 || w1 < 0 || w2 < 0) continue;
-        const double d = w0 * D[0] + w1 * D[1] + w2 * D[2];
-        double& z = zbuf[static_cast<std::size_t>(y) * img.width + x];
-        if (d <= z) continue;
-        z = d;
-        std::uint8_t* pixel = img.at(x, y);
-        pixel[0] = static_cast<std::uint8_t>(std::lround(237 * shade));
-        pixel[1] = static_cast<std::uint8_t>(std::lround(107 * shade));
-        pixel[2] = static_cast<std::uint8_t>(std::lround(33 * shade));
-      }
+    raster_triangle(X, Y, D, depth, [&](int x, int y, double, double, double) {
+      std::uint8_t* pixel = img.at(x, y);
+      pixel[0] = static_cast<std::uint8_t>(std::lround(237 * shade));
+      pixel[1] = static_cast<std::uint8_t>(std::lround(107 * shade));
+      pixel[2] = static_cast<std::uint8_t>(std::lround(33 * shade));
+    });
   }
   return img;
 }
