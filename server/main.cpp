@@ -13,7 +13,9 @@
 
 #include "core/common/input_error.hpp"
 #include "server/api/api_key.hpp"
+#include "server/api/octoprint_json.hpp"
 #include "server/api/routes.hpp"
+#include "server/api/sessions.hpp"
 #include "server/build_info.hpp"
 #include "server/config/daemon_config.hpp"
 #include "server/events/event_hub.hpp"
@@ -142,7 +144,9 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_system_routes(router);
   add_job_routes(router, store, jobs, config);
   add_printer_routes(router, printers, store, config);
-  add_octoprint_routes(router, store, printers, config);
+  OctoState octo;
+  Sessions sessions;
+  add_octoprint_routes(router, store, printers, config, octo, sessions);
   add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());
   add_event_route(router);
   add_web_routes(router, config);

@@ -21,8 +21,13 @@ void add_system_routes(Router& router);
 void add_job_routes(Router& router, Store& store, JobService& jobs, const DaemonConfig& config);
 // /api/v1/printers…: status, connect/disconnect, print, pause/resume/cancel/emergency-stop, command.
 void add_printer_routes(Router& router, PrinterService& printers, Store& store, const DaemonConfig& config);
-// OctoPrint's API as slicers use it: /api/files/local, /api/job, /api/printer, /api/settings…
-void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config);
+struct OctoState;
+class Sessions;
+// OctoPrint's API as its clients use it: /api/files/local, /api/job, /api/printer, /api/settings,
+// /api/login… `octo` (the selected file, analyses) is shared with the push socket; `sessions`
+// are what passive logins hand out.
+void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config,
+                          OctoState& octo, Sessions& sessions);
 // The web page (open): / and /web/{file} from the binary, /vendor/{three,chart.js}/… from
 // config.web_vendor_dir.
 void add_web_routes(Router& router, const DaemonConfig& config);

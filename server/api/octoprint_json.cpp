@@ -1,0 +1,159 @@
+#include "server/api/octoprint_json.hpp"
+
+#include <cmath>
+#include <optional>
+
+#include "core/common/input_error.hpp"
+#include "core/gcode/time_estimator.hpp"
+#include "core/printer/printer_profile.hpp"
+#include "server/api/api_json.hpp"
+#include "server/store/print_store.hpp"
+
+namespace salient::server {
+
+using nlohmann::json;
+
+namespace {
+
+// The first printer's profile, for what a file alone does not say (filament diameter, limits).
+core::PrinterProfile first_profile(PrinterService& printers) {
+  const Printer* p = printers.first();
+  return p ? core::builtin_printer(p->config().profile).value_or(core::PrinterProfile{})
+           : core::PrinterProfile{};
+}
+
+// OctoPrint's gcodeAnalysis (what its analysis queue stores with a file and FDM Monster, OctoPod
+// and Cura show): estimatedPrintTime (s), filament.tool0 length (mm) and volume (cm³), and the
+// printing area and its dimensions (mm), from our estimator. Limits the file sets (ours always
+// do) override the profile's. nullopt for a file that cannot be read or is not G-code: OctoPrint
+// then lists the file without one.
+std::optional<json> analyse_file(Store& store, const StoredFile& f, const core::PrinterProfile& profile) {
+  core::GcodeEstimate e;
+  try {
+    core::MachineLimits limits;
+    limits.acceleration = limits.travel_acceleration = limits.retract_acceleration = profile.acceleration;
+    limits.jerk[0] = limits.jerk[1] = profile.jerk;
+    e = core::estimate_gcode(store.files().read(f.digest), f.name, limits);
+  } catch (const core::InputError&) {
+    return std::nullopt;
+  } catch (const StoreError&) {
+    return std::nullopt;
+  }
+  const double area = M_PI * profile.filament_diameter * profile.filament_diameter / 4;
+  json out = {
+      {"estimatedPrintTime", e.seconds},
+      {"filament", {{"tool0", {{"length", e.filament_mm}, {"volume", e.filament_mm * area / 1000}}}}}};
+  if (e.printed) {
+    const double* lo = e.printing_min;
+    const double* hi = e.printing_max;
+    out["printingArea"] = {{"minX", lo[0]}, {"maxX", hi[0]}, {"minY", lo[1]},
+                           {"maxY", hi[1]}, {"minZ", lo[2]}, {"maxZ", hi[2]}};
+    out["dimensions"] = {{"width", hi[0] - lo[0]}, {"depth", hi[1] - lo[1]}, {"height", hi[2] - lo[2]}};
+  }
+  return out;
+}
+
+}  // namespace
+
+bool is_gcode(const std::string& name) {
+  const std::size_t dot = name.find_last_of('.');
+  if (dot == std::string::npos) return false;
+  std::string ext = name.substr(dot + 1);
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return ext == "gcode" || ext == "gco" || ext == "g";
+}
+
+Printer& default_printer(PrinterService& printers) {
+  if (Printer* p = printers.first()) return *p;
+  throw ApiError(409, "not_operational", "no printer is configured");
+}
+
+std::string base_url(const HttpRequest& r) {
+  const std::string host = r.header("host");
+  return host.empty() ? std::string() : "http://" + host;
+}
+
+json file_json(const StoredFile& f, const HttpRequest& r) {
+  const std::string base = base_url(r);
+  return {{"name", f.name},
+          {"display", f.name},
+          {"path", f.name},
+          {"type", "machinecode"},
+          {"typePath", {"machinecode", "gcode"}},
+          {"origin", "local"},
+          {"size", f.size},
+          {"date", static_cast<long long>(f.uploaded_at)},
+          {"hash", f.digest},
+          {"refs",
+           {{"resource", base + "/api/files/local/" + f.name},
+            {"download", base + "/downloads/files/local/" + f.name}}}};
+}
+
+// file_json with the file's gcodeAnalysis, computed once per content.
+json file_json_analysed(const StoredFile& f, const HttpRequest& r, Store& store, PrinterService& printers,
+                        OctoState& octo) {
+  json out = file_json(f, r);
+  {
+    std::lock_guard lock(octo.mutex);
+    if (const auto it = octo.analyses.find(f.digest); it != octo.analyses.end()) {
+      if (!it->second.is_null()) out["gcodeAnalysis"] = it->second;
+      return out;
+    }
+  }
+  const std::optional<json> analysis = analyse_file(store, f, first_profile(printers));
+  std::lock_guard lock(octo.mutex);
+  if (octo.analyses.size() >= OctoState::kMaxAnalyses) octo.analyses.clear();
+  octo.analyses[f.digest] = analysis.value_or(json());
+  if (analysis) out["gcodeAnalysis"] = *analysis;
+  return out;
+}
+
+std::string state_text(const PrinterStatus& s) {
+  switch (s.state) {
+    case PrinterState::operational:
+      return "Operational";
+    case PrinterState::printing:
+      return "Printing";
+    case PrinterState::paused:
+      return "Paused";
+    case PrinterState::cancelling:
+      return "Cancelling";
+    case PrinterState::connecting:
+      return "Connecting";
+    case PrinterState::error:
+      return "Error: " + s.error;
+    case PrinterState::disconnected:
+      break;
+  }
+  return "Offline";
+}
+
+json state_json(const PrinterStatus& s) {
+  const bool printing = s.state == PrinterState::printing, paused = s.state == PrinterState::paused,
+             cancelling = s.state == PrinterState::cancelling;
+  const bool operational = busy_printing(s.state) || s.state == PrinterState::operational;
+  return {{"text", state_text(s)},
+          {"flags",
+           {{"operational", operational},
+            {"printing", printing},
+            {"paused", paused},
+            {"pausing", false},
+            {"cancelling", cancelling},
+            {"resuming", false},
+            {"finishing", false},
+            {"sdReady", false},
+            {"error", s.state == PrinterState::error},
+            {"ready", s.state == PrinterState::operational},
+            {"closedOrError", !operational}}}};
+}
+
+json temperature_json(const PrinterStatus& s) {
+  const auto one = [](const Temperature& t) {
+    return json{{"actual", t.actual ? json(*t.actual) : json(nullptr)},
+                {"target", t.target ? json(*t.target) : json(nullptr)},
+                {"offset", 0}};
+  };
+  return {{"tool0", one(s.hotend)}, {"bed", one(s.bed)}};
+}
+
+}  // namespace salient::server
