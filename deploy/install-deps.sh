@@ -27,6 +27,10 @@ build_packages=(
   # the web page's libraries, served by salientd from /usr/share/javascript (WebGL, charts), and
   # the browser tests: headless Chromium driven by Selenium
   libjs-three libjs-chart.js chromium chromium-driver python3-selenium
+  # OctoPrint clients' push socket (/sockjs/websocket) replayed in the client tests
+  python3-websocket
+  # Zeroconf: salientd announces _octoprint._tcp through Avahi when configured; the test browses
+  avahi-daemon avahi-utils libavahi-client-dev
 )
 peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 
