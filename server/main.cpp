@@ -124,6 +124,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
                   {config.workers, config.queue_limit, static_cast<std::size_t>(config.max_json_depth)},
                   [&](const Job& j) {
                     publish_job(j);
+                    if (finished(j.state)) printers.job_finished(j.id);  // a print waiting for it
                     if (finished(j.state) && j.started_at && j.finished_at)
                       metrics.job_finished(std::string(to_string(j.state)), *j.finished_at - *j.started_at);
                     if (finished(j.state) || j.state == JobState::queued)
@@ -142,7 +143,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
         return std::nullopt;
       });
   add_system_routes(router);
-  add_job_routes(router, store, jobs, config);
+  add_job_routes(router, store, jobs, printers, config);
   add_printer_routes(router, printers, store, config);
   OctoState octo;
   Sessions sessions;

@@ -134,9 +134,10 @@ PrinterEvents printer_event_publisher(EventHub& hub) {
                 json_text(printer_status_json(printer.status())),
                 progress ? Delivery::coalesce : Delivery::always);
   };
-  e.queue_changed = [&hub](const Printer& printer, const std::vector<QueueEntry>& entries) {
-    hub.publish({"printers", "printer/" + printer.id()}, "queue",
-                json_text(print_queue_json(printer.id(), entries)));
+  e.queue_changed = [&hub](const std::string& key, const std::vector<QueueEntry>& entries) {
+    const bool printer = key.find('/') == std::string::npos;
+    hub.publish({"printers", printer ? "printer/" + key : key}, "queue",
+                json_text(print_queue_json(key, entries)));
   };
   e.terminal_wanted = [&hub](const Printer& printer) {
     return hub.has_subscribers("terminal/" + printer.id());

@@ -47,12 +47,60 @@ HttpResponse artefact(Store& store, const std::string& id, const char* key, cons
   return out;
 }
 
+// Where a job goes once sliced (the `print` field): a printer id ("sim"), or JSON
+// {"printer": ID} or {"profile": P} (any idle printer with that profile). 422 when nothing
+// matches: checked before the job is made, so a typo costs no slicing.
+struct PrintTarget {
+  std::string printer, profile;
+};
+
+PrintTarget print_target(const std::string& text, PrinterService& printers) {
+  PrintTarget t;
+  if (!text.empty() && text.front() == '{') {
+    const json j = json::parse(text, nullptr, false);
+    if (!j.is_object() || j.size() != 1 || !(j.contains("printer") || j.contains("profile")) ||
+        !j.begin()->is_string())
+      throw ApiError(400, "bad_request",
+                     "'print' must be a printer id, {\"printer\": ID} or {\"profile\": P}");
+    (j.contains("printer") ? t.printer : t.profile) = j.begin()->get<std::string>();
+  } else {
+    t.printer = text;
+  }
+  const std::string shown = (t.printer.empty() ? t.profile : t.printer).substr(0, 64);
+  for (const auto& p : printers.all())
+    if ((!t.printer.empty() && p->id() == t.printer) ||
+        (!t.profile.empty() && p->config().profile == t.profile))
+      return t;
+  if (!t.printer.empty()) throw ApiError(422, "unknown_printer", "'print': no printer '" + shown + "'");
+  throw ApiError(422, "unknown_profile", "'print': no printer has the profile '" + shown + "'");
+}
+
+// The job's print, requested with it: started, queued, or why not (the job stays).
+json chain_print(PrinterService& printers, const PrintTarget& t, const Job& job) {
+  try {
+    const PrintSubmission s = t.printer.empty() ? printers.submit_to_profile(t.profile, "job", job.id, true)
+                                                : printers.submit_job(printers.get(t.printer), job.id, true);
+    if (s.queued)
+      return {{"queued", true},
+              {t.printer.empty() ? "profile" : "printer", t.printer.empty() ? t.profile : t.printer},
+              {"entry", s.queued->id},
+              {"position", s.queued->position},
+              {"slicing", s.queued->slicing}};
+    return {{"queued", false}, {"printer", s.printer}, {"print", s.print}};
+  } catch (const DomainError& e) {
+    return {{"error", e.what()}};
+  }
+}
+
 }  // namespace
 
-void add_job_routes(Router& router, Store& store, JobService& jobs, const DaemonConfig& config) {
+void add_job_routes(Router& router, Store& store, JobService& jobs, PrinterService& printers,
+                    const DaemonConfig& config) {
   router.add(
-      "POST", "/api/v1/jobs", Access::key, [&store, &jobs, &config](const HttpRequest& r, const PathParams&) {
+      "POST", "/api/v1/jobs", Access::key,
+      [&jobs, &printers, &config](const HttpRequest& r, const PathParams&) {
         std::string filename, bytes, settings;
+        std::optional<std::string> print;
         const std::string type = r.header("content-type");
         if (const auto boundary = multipart_boundary(type)) {
           std::vector<FormPart> parts;
@@ -66,6 +114,7 @@ void add_job_routes(Router& router, Store& store, JobService& jobs, const Daemon
             if (p.name == "file")
               filename = p.filename.value_or("model"), bytes = std::move(p.body), have_file = true;
             if (p.name == "settings") settings = std::move(p.body);
+            if (p.name == "print") print = std::move(p.body);
           }
           if (!have_file) throw ApiError(400, "bad_request", "the multipart body has no 'file' part");
         } else {
@@ -77,12 +126,18 @@ void add_job_routes(Router& router, Store& store, JobService& jobs, const Daemon
           filename = it->second;
           bytes = r.body;
           if (auto s = r.query.find("settings"); s != r.query.end()) settings = s->second;
+          if (auto s = r.query.find("print"); s != r.query.end()) print = s->second;
         }
         if (settings.size() > config.max_json_bytes)
           throw ApiError(413, "too_large",
                          "settings exceed " + std::to_string(config.max_json_bytes) + " bytes");
+        if (print && print->size() > 1024) throw ApiError(413, "too_large", "'print' exceeds 1024 bytes");
+        const std::optional<PrintTarget> target =
+            print ? std::optional<PrintTarget>(print_target(*print, printers)) : std::nullopt;
         const JobService::Submitted s = jobs.submit(filename, bytes, settings);
-        HttpResponse out = json_response(s.reused ? 200 : 201, job_json(s.job));
+        json body = job_json(s.job);
+        if (target) body["print"] = chain_print(printers, *target, s.job);
+        HttpResponse out = json_response(s.reused ? 200 : 201, body);
         out.headers.emplace_back("Location", "/api/v1/jobs/" + s.job.id);
         return out;
       });

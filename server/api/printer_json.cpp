@@ -57,15 +57,16 @@ json printer_status_json(const PrinterStatus& s) {
           {"last_print", s.last_print ? print_record_json(*s.last_print) : json(nullptr)}};
 }
 
-nlohmann::json print_queue_json(const std::string& printer_id, const std::vector<QueueEntry>& entries) {
+nlohmann::json print_queue_json(const std::string& key, const std::vector<QueueEntry>& entries) {
   nlohmann::json list = nlohmann::json::array();
   for (const QueueEntry& e : entries)
     list.push_back({{"entry", e.id},
                     {"position", e.position},
-                    {"state", "queued"},
+                    {"state", e.slicing ? "slicing" : "queued"},
                     {e.kind, e.ref},
                     {"queued_at", e.created_at}});
-  return {{"printer", printer_id}, {"entries", list}};
+  if (key.rfind("profile/", 0) == 0) return {{"profile", key.substr(8)}, {"entries", list}};
+  return {{"printer", key}, {"entries", list}};
 }
 
 }  // namespace salient::server

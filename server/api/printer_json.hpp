@@ -15,8 +15,9 @@ nlohmann::json print_record_json(const PrintRecord& p);
 // id, kind, protocol, profile, state, error, firmware, device, temperatures, print (with
 // elapsed and eta), last_print.
 nlohmann::json printer_status_json(const PrinterStatus& s);
-// A printer's queue: {"printer", "entries": [{entry, position, state: "queued", job | file,
-// queued_at}]}, what GET …/queue returns and "queue" events carry.
-nlohmann::json print_queue_json(const std::string& printer_id, const std::vector<QueueEntry>& entries);
+// A queue: {"printer" (or "profile" for a farm-wide queue), "entries": [{entry, position,
+// state: "queued" or "slicing" (a job not sliced yet), job | file, queued_at}]}, what
+// GET …/queue returns and "queue" events carry. `key`: a printer id or "profile/P".
+nlohmann::json print_queue_json(const std::string& key, const std::vector<QueueEntry>& entries);
 
 }  // namespace salient::server

@@ -24,6 +24,53 @@ long long entry_id(const PathParams& p) {
   return std::stoll(text);
 }
 
+// {"job": ID} or {"file": NAME}: what to print (400 otherwise; `alternative` names what else
+// the endpoint takes).
+std::pair<std::string, std::string> print_request(const json& body, const std::string& alternative) {
+  if (body.size() == 1)
+    for (const char* kind : {"job", "file"})
+      if (body.contains(kind) && body.at(kind).is_string()) return {kind, body.at(kind).get<std::string>()};
+  throw ApiError(400, "bad_request",
+                 "expected {\"job\": \"ID\"} or {\"file\": \"NAME\"}" +
+                     (alternative.empty() ? std::string() : " or " + alternative));
+}
+
+HttpResponse queued(const QueueEntry& e) {
+  return json_response(202,
+                       {{"queued", true}, {"position", e.position}, {"entry", e.id}, {"slicing", e.slicing}});
+}
+
+HttpResponse started(const Printer& printer, long long print) {
+  HttpResponse out = status(202, printer);
+  out.headers.emplace_back("Location",
+                           "/api/v1/printers/" + printer.id() + "/prints?print=" + std::to_string(print));
+  return out;
+}
+
+// /api/v1/farm/{profile}/…: the farm-wide queue of a profile — any idle printer with it prints.
+void add_farm_routes(Router& router, PrinterService& printers, const DaemonConfig& config) {
+  router.add("POST", "/api/v1/farm/{profile}/print", Access::key,
+             [&printers, &config](const HttpRequest& r, const PathParams& p) {
+               const json body =
+                   parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
+               const auto [kind, ref] = print_request(body, "");
+               const PrintSubmission sent = printers.submit_to_profile(p.at("profile"), kind, ref);
+               if (sent.queued) return queued(*sent.queued);
+               return started(printers.get(sent.printer), sent.print);
+             });
+  router.add("GET", "/api/v1/farm/{profile}/queue", Access::key,
+             [&printers](const HttpRequest&, const PathParams& p) {
+               return json_response(200, print_queue_json("profile/" + p.at("profile"),
+                                                          printers.profile_queue(p.at("profile"))));
+             });
+  router.add("DELETE", "/api/v1/farm/{profile}/queue/{entry}", Access::key,
+             [&printers](const HttpRequest&, const PathParams& p) {
+               printers.remove_from_profile(p.at("profile"), entry_id(p));
+               return json_response(200, print_queue_json("profile/" + p.at("profile"),
+                                                          printers.profile_queue(p.at("profile"))));
+             });
+}
+
 // …/queue: list, next (the bed is clear), remove and move entries.
 void add_queue_routes(Router& router, PrinterService& printers, const DaemonConfig& config) {
   const auto listing = [&printers](const Printer& printer) {
@@ -146,34 +193,23 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
              });
   // {"job": ID} prints a finished job's G-code, {"file": NAME} an uploaded file, {"resume": PRINT}
   // the rest of an interrupted print (heaters, position and modes restored first).
-  router.add(
-      "POST", "/api/v1/printers/{id}/print", Access::key,
-      [&printers, &config](const HttpRequest& r, const PathParams& p) {
-        Printer& printer = printers.get(p.at("id"));
-        const json body =
-            parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
-        if (body.size() != 1)
-          throw ApiError(400, "bad_request", "give exactly one of 'job', 'file' and 'resume'");
-        PrintSubmission sent;
-        if (body.contains("job") && body.at("job").is_string()) {
-          sent = printers.submit_job(printer, body.at("job").get<std::string>());
-        } else if (body.contains("file") && body.at("file").is_string()) {
-          sent = printers.submit_file(printer, body.at("file").get<std::string>());
-        } else if (body.contains("resume") && body.at("resume").is_number_integer()) {
-          sent.print = printers.resume(printer, body.at("resume").get<long long>());
-        } else {
-          throw ApiError(400, "bad_request",
-                         "expected {\"job\": \"ID\"}, {\"file\": \"NAME\"} or {\"resume\": PRINT_ID}");
-        }
-        if (sent.queued)
-          return json_response(
-              202, {{"queued", true}, {"position", sent.queued->position}, {"entry", sent.queued->id}});
-        HttpResponse out = status(202, printer);
-        out.headers.emplace_back(
-            "Location", "/api/v1/printers/" + printer.id() + "/prints?print=" + std::to_string(sent.print));
-        return out;
-      });
+  router.add("POST", "/api/v1/printers/{id}/print", Access::key,
+             [&printers, &config](const HttpRequest& r, const PathParams& p) {
+               Printer& printer = printers.get(p.at("id"));
+               const json body =
+                   parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
+               if (body.size() == 1 && body.contains("resume") && body.at("resume").is_number_integer()) {
+                 const long long print = printers.resume(printer, body.at("resume").get<long long>());
+                 return started(printer, print);
+               }
+               const auto [kind, ref] = print_request(body, "{\"resume\": PRINT_ID}");
+               const PrintSubmission sent =
+                   kind == "job" ? printers.submit_job(printer, ref) : printers.submit_file(printer, ref);
+               if (sent.queued) return queued(*sent.queued);
+               return started(printer, sent.print);
+             });
   add_queue_routes(router, printers, config);
+  add_farm_routes(router, printers, config);
   const std::pair<const char*, void (Printer::*)()> actions[] = {
       {"pause", &Printer::pause},
       {"resume", &Printer::resume},

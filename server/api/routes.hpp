@@ -17,9 +17,12 @@ namespace salient::server {
 
 // /healthz, /api/version (open).
 void add_system_routes(Router& router);
-// /api/v1/jobs…: submit, list, get, cancel/remove, artefacts.
-void add_job_routes(Router& router, Store& store, JobService& jobs, const DaemonConfig& config);
-// /api/v1/printers…: status, connect/disconnect, print, pause/resume/cancel/emergency-stop, command.
+// /api/v1/jobs…: submit (and print once sliced: the `print` field), list, get, cancel/remove,
+// artefacts.
+void add_job_routes(Router& router, Store& store, JobService& jobs, PrinterService& printers,
+                    const DaemonConfig& config);
+// /api/v1/printers…: status, connect/disconnect, print, pause/resume/cancel/emergency-stop, command,
+// queues; /api/v1/farm/{profile}/…: a profile's farm-wide queue.
 void add_printer_routes(Router& router, PrinterService& printers, Store& store, const DaemonConfig& config);
 struct OctoState;
 class Sessions;

@@ -1,6 +1,8 @@
-// PrinterService's print queue: requests that found their printer busy wait in the store
+// PrinterService's print queues: requests that found their printer busy wait in the store
 // (QueueStore) and start, in order, when the bed is declared clear or, with auto_start, as soon
-// as the printer is idle again. See printer_service.hpp.
+// as the printer is idle again. A profile's farm-wide queue ("profile/P") feeds whichever printer
+// with that profile is idle; a job submitted to print once sliced waits in a queue as "slicing"
+// and is passed over until it is done. See printer_service.hpp.
 #include <chrono>
 
 #include "server/common/domain_error.hpp"
@@ -15,13 +17,26 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
+std::string profile_key(const std::string& profile) {
+  return "profile/" + profile;
+}
+
 }  // namespace
 
-void PrinterService::check_printable(const std::string& kind, const std::string& ref) {
+PrinterService::Readiness PrinterService::readiness(const std::string& kind, const std::string& ref) {
+  if (kind == "file") return PrintStore(store_.db()).file(ref) ? Readiness::ready : Readiness::gone;
+  const auto job = JobStore(store_.db()).get(ref);
+  if (!job) return Readiness::gone;
+  if (job->state == JobState::queued || job->state == JobState::running) return Readiness::slicing;
+  return job->state == JobState::done && job->result ? Readiness::ready : Readiness::gone;
+}
+
+void PrinterService::check_printable(const std::string& kind, const std::string& ref, bool when_sliced) {
   if (kind == "job") {
     const auto job = JobStore(store_.db()).get(ref);
     if (!job) throw NotFound("no job " + ref);
-    if (job->state != JobState::done || !job->result)
+    const Readiness r = readiness(kind, ref);
+    if (r == Readiness::gone || (r == Readiness::slicing && !when_sliced))
       throw Conflict("not_ready",
                      "job " + ref + " is " + std::string(to_string(job->state)) + ": nothing to print");
   } else if (!PrintStore(store_.db()).file(ref)) {
@@ -33,66 +48,139 @@ long long PrinterService::start_entry(Printer& printer, const std::string& kind,
   return kind == "job" ? print_job(printer, ref) : print_file(printer, ref);
 }
 
-PrintSubmission PrinterService::submit_job(Printer& printer, const std::string& job_id) {
-  return submit(printer, "job", job_id);
+std::vector<QueueEntry> PrinterService::entries(const std::string& key) {
+  std::vector<QueueEntry> out = QueueStore(store_.db()).list(key);
+  for (QueueEntry& e : out) e.slicing = readiness(e.kind, e.ref) == Readiness::slicing;
+  return out;
+}
+
+bool PrinterService::has_ready(const std::string& key) {
+  for (const QueueEntry& e : QueueStore(store_.db()).list(key))
+    if (readiness(e.kind, e.ref) == Readiness::ready) return true;
+  return false;
+}
+
+long long PrinterService::occupied(Printer& printer, long long print) {
+  std::lock_guard lock(queue_mutex_);
+  if (!printer.config().auto_start) bed_full_.insert(printer.id());
+  return print;
+}
+
+bool PrinterService::bed_clear(const Printer& printer) {
+  std::lock_guard lock(queue_mutex_);
+  return printer.config().auto_start || !bed_full_.count(printer.id());
+}
+
+bool PrinterService::idle(Printer& printer) {
+  return printer.state() == PrinterState::operational && !has_ready(printer.id());
+}
+
+PrintSubmission PrinterService::submit_job(Printer& printer, const std::string& job_id, bool when_sliced) {
+  return submit(printer, "job", job_id, when_sliced);
 }
 
 PrintSubmission PrinterService::submit_file(Printer& printer, const std::string& name) {
-  return submit(printer, "file", name);
+  return submit(printer, "file", name, false);
 }
 
-PrintSubmission PrinterService::submit(Printer& printer, const std::string& kind, const std::string& ref) {
+PrintSubmission PrinterService::submit(Printer& printer, const std::string& kind, const std::string& ref,
+                                       bool when_sliced) {
   std::lock_guard lock(queue_mutex_);
-  check_printable(kind, ref);
-  QueueStore queue(store_.db());
-  // Nothing waits and the printer is free: the print goes now, as without a queue (a printer
-  // that is not connected still says so).
-  if (!busy_printing(printer.state()) && queue.list(printer.id()).empty()) {
+  check_printable(kind, ref, when_sliced);
+  // Asking a free printer to print declares its bed clear, as a direct print does, whether it
+  // prints now or once sliced (if another print comes first, the bed must be declared clear again).
+  if (printer.state() == PrinterState::operational && !has_ready(printer.id())) bed_full_.erase(printer.id());
+  // Ready, nothing ready waits and the printer is free: the print goes now, as without a queue
+  // (a printer that is not connected still says so).
+  if (readiness(kind, ref) == Readiness::ready && !busy_printing(printer.state()) &&
+      !has_ready(printer.id())) {
     try {
-      return {start_entry(printer, kind, ref), std::nullopt};
+      return {start_entry(printer, kind, ref), std::nullopt, printer.id()};
     } catch (const Conflict&) {
       if (!busy_printing(printer.state())) throw;  // another request started a print meanwhile: queue
     }
   }
   PrintSubmission out;
-  out.queued = queue.add(printer.id(), kind, ref, now_seconds());
+  out.queued = QueueStore(store_.db()).add(printer.id(), kind, ref, now_seconds());
+  out.queued->slicing = readiness(kind, ref) == Readiness::slicing;
   queue_changed(printer);
   return out;
 }
 
+PrintSubmission PrinterService::submit_to_profile(const std::string& profile, const std::string& kind,
+                                                  const std::string& ref, bool when_sliced) {
+  std::lock_guard lock(queue_mutex_);
+  profile_queue(profile);  // NotFound when no printer has it
+  check_printable(kind, ref, when_sliced);
+  // Ready, and nothing ready waits in the profile's queue: the first idle printer takes it now.
+  if (readiness(kind, ref) == Readiness::ready && !has_ready(profile_key(profile))) {
+    for (auto& p : printers_) {
+      if (p->config().profile != profile || !idle(*p) || !bed_clear(*p)) continue;
+      try {
+        return {start_entry(*p, kind, ref), std::nullopt, p->id()};
+      } catch (const Conflict& e) {
+        if (e.code() != "printer_busy") throw;  // else another request took this printer: the next
+      }
+    }
+  }
+  PrintSubmission out;
+  out.queued = QueueStore(store_.db()).add(profile_key(profile), kind, ref, now_seconds());
+  out.queued->slicing = readiness(kind, ref) == Readiness::slicing;
+  queue_changed(profile_key(profile));
+  return out;
+}
+
 std::vector<QueueEntry> PrinterService::queue(const Printer& printer) {
-  return QueueStore(store_.db()).list(printer.id());
+  return entries(printer.id());
+}
+
+std::vector<QueueEntry> PrinterService::profile_queue(const std::string& profile) {
+  for (const auto& p : printers_)
+    if (p->config().profile == profile) return entries(profile_key(profile));
+  throw NotFound("no printer has the profile '" + profile + "'");
+}
+
+std::optional<std::pair<long long, QueueEntry>> PrinterService::start_first_ready(Printer& printer,
+                                                                                  const std::string& key) {
+  QueueStore queue(store_.db());
+  for (const QueueEntry& e : queue.list(key)) {
+    const Readiness r = readiness(e.kind, e.ref);
+    if (r == Readiness::slicing) continue;  // passed over until it is sliced
+    long long print = 0;
+    try {
+      if (r == Readiness::gone) check_printable(e.kind, e.ref, false);  // throws: why it is gone
+      print = start_entry(printer, e.kind, e.ref);
+    } catch (const Conflict& error) {
+      if (error.code() == "printer_busy") throw;  // the entry stays in line
+      queue.remove(key, e.id);
+      queue_changed(key);
+      throw;
+    } catch (const DomainError&) {  // its job or file is gone, or cannot be printed
+      queue.remove(key, e.id);
+      queue_changed(key);
+      throw;
+    }
+    queue.remove(key, e.id);
+    queue_changed(key);
+    return std::pair{print, e};
+  }
+  return std::nullopt;
 }
 
 std::pair<long long, QueueEntry> PrinterService::next(Printer& printer) {
   std::lock_guard lock(queue_mutex_);
-  QueueStore queue(store_.db());
-  const std::vector<QueueEntry> entries = queue.list(printer.id());
-  if (entries.empty()) throw Conflict("queue_empty", "printer " + printer.id() + " has nothing queued");
-  const QueueEntry& first = entries.front();
-  long long print = 0;
-  try {
-    print = start_entry(printer, first.kind, first.ref);
-  } catch (const Conflict& e) {
-    if (e.code() == "printer_busy") throw;  // the entry stays first in line
-    queue.remove(printer.id(), first.id);
-    queue_changed(printer);
-    throw;
-  } catch (const DomainError&) {  // its job or file is gone, or cannot be printed
-    queue.remove(printer.id(), first.id);
-    queue_changed(printer);
-    throw;
-  }
-  queue.remove(printer.id(), first.id);
-  queue_changed(printer);
-  return {print, first};
+  if (printer.state() == PrinterState::operational) bed_full_.erase(printer.id());  // declared clear
+  if (auto started = start_first_ready(printer, printer.id())) return *started;
+  if (auto started = start_first_ready(printer, profile_key(printer.config().profile))) return *started;
+  throw Conflict("queue_empty",
+                 "printer " + printer.id() + " has nothing ready in its queue or its profile's");
 }
 
 void PrinterService::auto_start(Printer& printer) {
   std::lock_guard lock(queue_mutex_);
   // Skips entries that cannot print any more; stops at the first that starts, or when the
   // printer cannot take one.
-  while (printer.state() == PrinterState::operational && !queue(printer).empty()) {
+  for (int tries = 0; tries < 64 && printer.state() == PrinterState::operational; ++tries) {
     try {
       next(printer);
       return;
@@ -105,11 +193,67 @@ void PrinterService::auto_start(Printer& printer) {
   }
 }
 
+void PrinterService::dispatch_profile(const std::string& profile) {
+  std::lock_guard lock(queue_mutex_);
+  for (auto& p : printers_) {
+    if (p->config().profile != profile) continue;
+    for (int tries = 0; tries < 64 && idle(*p) && bed_clear(*p); ++tries) {
+      try {
+        if (!start_first_ready(*p, profile_key(profile))) return;  // nothing ready for anyone
+        break;
+      } catch (const Conflict& e) {
+        if (e.code() == "printer_busy") break;
+      } catch (const DomainError&) {  // a gone entry, dropped: the next one
+      } catch (const std::exception&) {
+        return;
+      }
+    }
+  }
+}
+
+void PrinterService::job_finished(const std::string& job_id) {
+  std::lock_guard lock(queue_mutex_);
+  const Readiness r = readiness("job", job_id);
+  QueueStore queue(store_.db());
+  for (const QueueEntry& e : queue.holding("job", job_id)) {
+    if (r == Readiness::gone) {  // failed or cancelled: it will never print
+      queue.remove(e.printer_id, e.id);
+      queue_changed(e.printer_id);
+      continue;
+    }
+    if (e.printer_id.rfind("profile/", 0) == 0) {
+      dispatch_profile(e.printer_id.substr(8));
+      continue;
+    }
+    // The user asked for it to print once sliced: it starts if the printer is free and nothing
+    // ready is ahead of it (else it waits its turn like any other).
+    Printer* printer = nullptr;
+    for (auto& p : printers_)
+      if (p->id() == e.printer_id) printer = p.get();
+    if (!printer || printer->state() != PrinterState::operational || !bed_clear(*printer)) continue;
+    bool ahead = false;
+    for (const QueueEntry& other : queue.list(e.printer_id))
+      if (other.position < e.position && readiness(other.kind, other.ref) == Readiness::ready) ahead = true;
+    if (ahead) continue;
+    try {
+      start_first_ready(*printer, e.printer_id);
+    } catch (const std::exception&) {  // busy after all, or gone: the queue says what is left
+    }
+  }
+}
+
 void PrinterService::remove_queued(Printer& printer, long long entry) {
   std::lock_guard lock(queue_mutex_);
   if (!QueueStore(store_.db()).remove(printer.id(), entry))
     throw NotFound("no entry " + std::to_string(entry) + " in the queue of " + printer.id());
   queue_changed(printer);
+}
+
+void PrinterService::remove_from_profile(const std::string& profile, long long entry) {
+  std::lock_guard lock(queue_mutex_);
+  if (!QueueStore(store_.db()).remove(profile_key(profile), entry))
+    throw NotFound("no entry " + std::to_string(entry) + " in the queue of profile " + profile);
+  queue_changed(profile_key(profile));
 }
 
 void PrinterService::move_queued(Printer& printer, long long entry, long long position) {
@@ -125,8 +269,8 @@ void PrinterService::move_queued(Printer& printer, long long entry, long long po
   queue_changed(printer);
 }
 
-void PrinterService::queue_changed(const Printer& printer) {
-  if (queue_changed_) queue_changed_(printer, queue(printer));
+void PrinterService::queue_changed(const std::string& key) {
+  if (queue_changed_) queue_changed_(key, entries(key));
 }
 
 }  // namespace salient::server

@@ -65,13 +65,14 @@ long long PrinterService::print_job(Printer& printer, const std::string& job_id)
                    "job " + job_id + " is " + std::string(to_string(job->state)) + ": nothing to print");
   const nlohmann::json result = nlohmann::json::parse(*job->result);
   const std::string stem = job->filename.substr(0, job->filename.find_last_of('.'));
-  return printer.print({job_id, result.at("gcode").get<std::string>(), stem + ".gcode", 0});
+  return occupied(printer,
+                  printer.print({job_id, result.at("gcode").get<std::string>(), stem + ".gcode", 0}));
 }
 
 long long PrinterService::print_file(Printer& printer, const std::string& name) {
   const auto file = PrintStore(store_.db()).file(name);
   if (!file) throw NotFound("no file '" + name + "' (upload it to /api/files/local)");
-  return printer.print({std::nullopt, file->digest, file->name, 0});
+  return occupied(printer, printer.print({std::nullopt, file->digest, file->name, 0}));
 }
 
 long long PrinterService::resume(Printer& printer, long long print_id) {
@@ -81,7 +82,8 @@ long long PrinterService::resume(Printer& printer, long long print_id) {
   if (p->state == PrintState::finished || running(p->state) || p->confirmed >= p->total)
     throw Conflict("not_resumable", "print " + std::to_string(print_id) + " is " +
                                         std::string(to_string(p->state)) + ": nothing to resume");
-  return printer.print({p->job_id, p->file_digest, p->filename, static_cast<std::size_t>(p->confirmed)});
+  return occupied(printer, printer.print({p->job_id, p->file_digest, p->filename,
+                                          static_cast<std::size_t>(p->confirmed)}));
 }
 
 }  // namespace salient::server

@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,14 +24,16 @@ namespace salient::server {
 
 // What becomes of printers' changes (every hook may be empty).
 struct PrinterEvents : Printer::Hooks {
-  // A printer's queue changed (an entry added, removed, moved or started): its entries now.
-  std::function<void(const Printer&, const std::vector<QueueEntry>&)> queue_changed;
+  // A queue changed (an entry added, removed, moved or started): its key (a printer id, or
+  // "profile/P" for a profile's farm-wide queue) and its entries now.
+  std::function<void(const std::string&, const std::vector<QueueEntry>&)> queue_changed;
 };
 
 // What a print request became: a print started now, or an entry waiting in the printer's queue.
 struct PrintSubmission {
   long long print = 0;
   std::optional<QueueEntry> queued;
+  std::string printer;  // where the print started (empty when queued)
 };
 
 class PrinterService {
@@ -51,35 +54,63 @@ class PrinterService {
   long long print_file(Printer& printer, const std::string& name);
   long long resume(Printer& printer, long long print_id);
 
-  // The print queue (printer_queue.cpp). A job or file prints at once on an idle printer with
-  // nothing waiting; it is queued while the printer prints (or pauses, or cancels) or others
+  // The print queues (printer_queue.cpp). A job or file prints at once on an idle printer with
+  // nothing ready waiting; it is queued while the printer prints (or pauses, or cancels) or others
   // wait. The next starts on next(), the bed declared clear, or by itself when a print ends on
-  // a printer with auto_start. NotFound: no such job/file; Conflict: job not done, or an idle
-  // printer that cannot print (not connected).
-  PrintSubmission submit_job(Printer& printer, const std::string& job_id);
+  // a printer with auto_start. NotFound: no such job/file; Conflict: job not done (unless
+  // `when_sliced`: a job still slicing then waits in the queue and starts once it is done, see
+  // job_finished), or an idle printer that cannot print (not connected).
+  PrintSubmission submit_job(Printer& printer, const std::string& job_id, bool when_sliced = false);
   PrintSubmission submit_file(Printer& printer, const std::string& name);
+  // The farm-wide queue of a profile: the print goes to any idle printer with that profile (one
+  // with nothing ready in its own queue), else waits until one takes it (its own queue first).
+  // NotFound: no printer has the profile.
+  PrintSubmission submit_to_profile(const std::string& profile, const std::string& kind,
+                                    const std::string& ref, bool when_sliced = false);
   std::vector<QueueEntry> queue(const Printer& printer);
-  // Starts the first entry: (print id, entry). Conflict: nothing queued, or the printer not idle.
-  // An entry that can no longer print (its job or file deleted) is dropped, and the error told.
+  std::vector<QueueEntry> profile_queue(const std::string& profile);  // NotFound
+  // Starts the first entry ready to print, from the printer's queue, else from its profile's:
+  // (print id, entry). Conflict: nothing ready, or the printer not idle. An entry that can no
+  // longer print (its job failed or was deleted, its file deleted) is dropped, and the error told.
   std::pair<long long, QueueEntry> next(Printer& printer);
   void remove_queued(Printer& printer, long long entry);                    // NotFound
   void move_queued(Printer& printer, long long entry, long long position);  // NotFound, BadRequest
+  void remove_from_profile(const std::string& profile, long long entry);    // NotFound
+  // A job ended (done, failed or cancelled): entries waiting for it start where a printer is idle
+  // and nothing ready is ahead of them, or are dropped if it failed.
+  void job_finished(const std::string& job_id);
 
   // The printer's temperatures, sampled whenever it reports (once a second at most). NotFound.
   const TemperatureHistory& temperatures(const std::string& id) const;
 
  private:
-  PrintSubmission submit(Printer& printer, const std::string& kind, const std::string& ref);
+  enum class Readiness { ready, slicing, gone };
+  PrintSubmission submit(Printer& printer, const std::string& kind, const std::string& ref, bool when_sliced);
   long long start_entry(Printer& printer, const std::string& kind, const std::string& ref);
-  void check_printable(const std::string& kind, const std::string& ref);
+  Readiness readiness(const std::string& kind, const std::string& ref);
+  // NotFound, or Conflict for a job not done (slicing is fine when `when_sliced`).
+  void check_printable(const std::string& kind, const std::string& ref, bool when_sliced);
+  std::vector<QueueEntry> entries(const std::string& key);  // with `slicing` filled in
+  bool has_ready(const std::string& key);
+  // Starts the first ready entry of `key` on `printer`; nullopt when none is ready. Drops the
+  // gone ones; lets a printer_busy Conflict through.
+  std::optional<std::pair<long long, QueueEntry>> start_first_ready(Printer& printer, const std::string& key);
+  bool idle(Printer& printer);  // operational, with nothing ready in its own queue
+  // A print started: the bed holds it until declared clear (next()), unless auto_start says
+  // the printer clears its own. Farm-wide entries go only to printers with a clear bed.
+  long long occupied(Printer& printer, long long print);
+  bool bed_clear(const Printer& printer);
+  void dispatch_profile(const std::string& profile);  // idle printers take the profile's entries
   void auto_start(Printer& printer);
-  void queue_changed(const Printer& printer);
+  void queue_changed(const std::string& key);
+  void queue_changed(const Printer& printer) { queue_changed(printer.id()); }
 
   Store& store_;
-  std::function<void(const Printer&, const std::vector<QueueEntry>&)> queue_changed_;
+  std::function<void(const std::string&, const std::vector<QueueEntry>&)> queue_changed_;
   // Serializes queue decisions (check, then start or queue). Recursive: starting a print
   // notifies, and that notification may come back here on the same thread.
   std::recursive_mutex queue_mutex_;
+  std::set<std::string> bed_full_;  // printers whose bed holds a print (under queue_mutex_)
   std::map<std::string, std::unique_ptr<TemperatureHistory>> temperatures_;  // fixed after construction
   std::vector<std::unique_ptr<Printer>> printers_;
 };

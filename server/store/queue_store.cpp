@@ -38,6 +38,15 @@ std::vector<QueueEntry> QueueStore::list(const std::string& printer_id) {
   return out;
 }
 
+std::vector<QueueEntry> QueueStore::holding(const std::string& kind, const std::string& ref) {
+  auto q = db_.prepare(std::string("SELECT ") + columns +
+                       " FROM print_queue WHERE kind = ? AND ref = ? ORDER BY printer_id, position");
+  q.bind(1, std::string_view(kind)).bind(2, std::string_view(ref));
+  std::vector<QueueEntry> out;
+  while (q.step()) out.push_back(read_entry(q));
+  return out;
+}
+
 std::optional<QueueEntry> QueueStore::get(const std::string& printer_id, long long id) {
   auto q =
       db_.prepare(std::string("SELECT ") + columns + " FROM print_queue WHERE printer_id = ? AND id = ?");
