@@ -98,7 +98,7 @@ TEST_CASE("keys made and revoked at run time are seen at once, from any thread")
   CHECK(reread.list().size() == 2);
 }
 
-TEST_CASE("the last admin key is never revoked; another admin key frees it") {
+TEST_CASE("the last admin key is never revoked, and another admin key frees it") {
   salient::test::ScratchDir dir("keys-last-admin");
   Store store(dir.path);
   const std::string first = ensure_api_key(store).key;

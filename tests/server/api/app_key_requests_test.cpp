@@ -11,7 +11,7 @@
 using namespace salient::server;
 using Poll = AppKeyRequests::Poll;
 
-TEST_CASE("a request is pending, then approved once; a denied one is gone") {
+TEST_CASE("a request is pending, then approved once, and a denied one is gone") {
   AppKeyRequests requests;
   const AppKeyRequest cura = requests.open("Cura", "", "10.0.0.2", 0);
   CHECK(std::regex_match(cura.app_token, std::regex("^[A-Za-z0-9_-]{43}$")));
