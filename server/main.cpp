@@ -13,6 +13,7 @@
 
 #include "core/common/input_error.hpp"
 #include "server/api/api_key.hpp"
+#include "server/api/app_key_requests.hpp"
 #include "server/api/octoprint_json.hpp"
 #include "server/api/routes.hpp"
 #include "server/api/sessions.hpp"
@@ -115,7 +116,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   const ApiKey key = ensure_api_key(store);
   if (key.created)
     log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
-  const ApiKeys keys(store);
+  ApiKeys keys(store);
   EventHub hub;
   PrinterService printers(config, store, printer_event_publisher(hub));
   hub.set_snapshot(event_snapshots(store, printers));
@@ -132,7 +133,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
                                (j.error ? " error=\"" + *j.error + "\"" : ""));
                   });
   Router router;
-  router.set_authenticator([&keys](const HttpRequest& r) { return keys.valid(r); });
+  router.set_authenticator([&keys](const HttpRequest& r) { return keys.authenticate(r); });
   router.set_exception_mapper(
       [](const std::exception& e, const std::string& route) -> std::optional<HttpResponse> {
         log_line("http error route=" + route + " " + e.what());
@@ -148,6 +149,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   OctoState octo;
   Sessions sessions;
   add_octoprint_routes(router, store, printers, config, octo, sessions);
+  AppKeyRequests app_key_requests;
+  add_auth_routes(router, keys, sessions, app_key_requests);
   add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());
   add_event_route(router);
   add_web_routes(router, config);

@@ -29,5 +29,7 @@ void add_export_x3g_command(CLI::App& app, CommandAction& action);
 void add_print_command(CLI::App& app, CommandAction& action);
 // submit, jobs, watch, printers: clients of a running salientd.
 void add_client_commands(CLI::App& app, CommandAction& action);
+// keys list|create|revoke|requests|approve|deny: salientd's API keys and app key requests.
+void add_keys_command(CLI::App& app, CommandAction& action);
 
 }  // namespace salient::cli

@@ -1,11 +1,12 @@
 // The page: sign-in, the event stream, and the views by address (#/jobs, #/jobs/ID,
-// #/printers, #/printers/ID). Each view is a function (main, params, context) that fills `main`
+// #/printers, #/printers/ID, #/keys). Each view is a function (main, params, context) that fills `main`
 // and returns what undoes it (listeners, timers, WebGL) when the user goes elsewhere.
 import { api, Events } from './api.js';
 import { h, fill, toast } from './dom.js';
 import { jobsView } from './jobs.js';
 import { jobView } from './job_page.js';
 import { printersView, printerView } from './printers.js';
+import { keysView } from './keys.js';
 
 // Figures the browser tests read: when each event reached the page's DOM.
 window.salientMetrics = { eventLatencies: [] };
@@ -25,6 +26,7 @@ const routes = [
   [/^#\/jobs\/([\w-]+)$/, (m) => jobView(main, m[1], context())],
   [/^#\/printers\/([\w-]+)$/, (m) => printersOrPrinter(m[1])],
   [/^#\/printers$/, () => printersView(main, context())],
+  [/^#\/keys$/, () => keysView(main)],
   [/^(#\/jobs)?$/, () => jobsView(main, context())],
 ];
 

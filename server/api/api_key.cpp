@@ -3,29 +3,28 @@
 #include <fcntl.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <chrono>
-#include <fstream>
-#include <random>
 
+#include "server/api/sessions.hpp"
+#include "server/common/domain_error.hpp"
 #include "server/store/sha256.hpp"
+#include "server/store/user_store.hpp"
 
 namespace salient::server {
+namespace {
 
-ApiKey ensure_api_key(Store& store) {
-  auto q = store.db().prepare("SELECT count(*) FROM api_keys");
-  q.step();
-  const bool have = q.integer(0) > 0;
-  q.run();
-  if (have) return {};
-  std::random_device rd;  // the kernel's entropy pool
-  static constexpr char digits[] = "0123456789abcdef";
-  std::string key;
-  for (int i = 0; i < 32; ++i) {
-    const unsigned b = rd() & 0xff;
-    key += digits[b >> 4], key += digits[b & 15];
-  }
-  const auto path = store.data_dir() / "api-key";
+double unix_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+// A key longer than any we make is no key: its digest is never computed.
+constexpr std::size_t kMaxKey = 256;
+
+KeyInfo info_of(const KeyRow& row) {
+  return {row.id, row.user, role_from(row.role).value_or(Role::viewer), row.label, row.created_at};
+}
+
+void write_key_file(const std::filesystem::path& path, const std::string& key) {
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
   if (fd < 0) throw StoreError(path.string() + ": cannot write the API key");
   const std::string line = key + "\n";
@@ -33,35 +32,126 @@ ApiKey ensure_api_key(Store& store) {
       ::write(fd, line.data(), line.size()) == static_cast<ssize_t>(line.size()) && ::fsync(fd) == 0;
   ::close(fd);
   if (!ok) throw StoreError(path.string() + ": cannot write the API key");
-  const double now =
-      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  store.db()
-      .prepare("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', ?)")
-      .bind(1, std::string_view(sha256_hex(key)))
-      .bind(2, now)
-      .run();
+}
+
+}  // namespace
+
+bool valid_user_name(std::string_view name) {
+  if (name.empty() || name.size() > 64 || name.front() == '_') return false;
+  for (const char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-') return false;
+  return true;
+}
+
+ApiKey ensure_api_key(Store& store) {
+  auto q = store.db().prepare("SELECT count(*) FROM api_keys");
+  q.step();
+  const bool have = q.integer(0) > 0;
+  q.run();
+  if (have) return {};
+  const std::string key = random_token(32);
+  write_key_file(store.data_dir() / "api-key", key);
+  UserStore(store.db()).add_key(sha256_hex(key), "admin", "first start", unix_now());
   return {key, true};
 }
 
-ApiKeys::ApiKeys(Store& store) {
-  auto q = store.db().prepare("SELECT key_digest FROM api_keys");
-  while (q.step()) digests_.push_back(q.text(0));
+ApiKeys::ApiKeys(Store& store) : store_(store) {
+  load();
 }
 
-bool ApiKeys::valid(const HttpRequest& request) const {
+void ApiKeys::load() {
+  std::unordered_map<std::string, Principal> fresh;
+  for (const KeyRow& row : UserStore(store_.db()).keys())
+    fresh[row.digest] = {row.user, role_from(row.role).value_or(Role::viewer), row.id};
+  std::unique_lock lock(mutex_);
+  by_digest_ = std::move(fresh);
+}
+
+std::optional<Principal> ApiKeys::authenticate(const HttpRequest& request) const {
   std::string key = request.header("x-api-key");
   const std::string auth = request.header("authorization");
   if (key.empty() && auth.rfind("Bearer ", 0) == 0) key = auth.substr(7);
   if (key.empty()) {
     if (const auto it = request.query.find("apikey"); it != request.query.end()) key = it->second;
   }
-  return valid_key(key);
+  return principal(key);
 }
 
-bool ApiKeys::valid_key(std::string_view key) const {
-  if (key.empty() || key.size() > 256) return false;
+std::optional<Principal> ApiKeys::principal(std::string_view key) const {
+  if (key.empty() || key.size() > kMaxKey) return std::nullopt;
   const std::string digest = sha256_hex(key);
-  return std::find(digests_.begin(), digests_.end(), digest) != digests_.end();
+  std::shared_lock lock(mutex_);
+  const auto it = by_digest_.find(digest);
+  if (it == by_digest_.end()) return std::nullopt;
+  return it->second;
+}
+
+NewKey ApiKeys::create(const std::string& user, std::optional<Role> role, const std::string& label) {
+  if (!valid_user_name(user))
+    throw BadRequest("bad_user", "a user name is 1-64 characters of A-Z a-z 0-9 . _ - (not starting with _)");
+  if (label.size() > 128) throw BadRequest("bad_label", "a key's label has at most 128 characters");
+  for (const char c : label)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      throw BadRequest("bad_label", "a key's label may not hold control characters");
+  std::lock_guard write(write_);
+  Database& db = store_.db();
+  UserStore users(db);
+  Database::Transaction t(db);
+  const double now = unix_now();
+  if (const auto existing = users.user(user)) {
+    if (role && existing->role != to_string(*role))
+      throw Conflict("role_mismatch", "the user '" + user + "' is a " + existing->role + ", not a " +
+                                          std::string(to_string(*role)) + ": leave out the role");
+  } else {
+    users.add_user(user, std::string(to_string(role.value_or(Role::viewer))), now);
+  }
+  const std::string key = random_token(32);
+  const long long id = users.add_key(sha256_hex(key), user, label, now);
+  const KeyInfo info = info_of(*users.key(id));
+  t.commit();
+  load();
+  return {info, key};
+}
+
+KeyInfo ApiKeys::revoke(long long id) {
+  std::lock_guard write(write_);
+  Database& db = store_.db();
+  UserStore users(db);
+  Database::Transaction t(db);
+  const auto row = users.key(id);
+  if (!row) throw NotFound("no key " + std::to_string(id));
+  if (row->role == "admin" && users.admin_keys() <= 1)
+    throw Conflict("last_admin_key",
+                   "key " + std::to_string(id) + " is the last admin key: make another admin key first");
+  users.remove_key(id);
+  t.commit();
+  load();
+  return info_of(*row);
+}
+
+std::vector<KeyInfo> ApiKeys::list() const {
+  std::vector<KeyInfo> out;
+  for (const KeyRow& row : UserStore(store_.db()).keys()) out.push_back(info_of(row));
+  return out;
+}
+
+std::optional<KeyInfo> ApiKeys::find(long long id) const {
+  const auto row = UserStore(store_.db()).key(id);
+  if (!row) return std::nullopt;
+  return info_of(*row);
+}
+
+std::optional<Role> ApiKeys::role_of(const std::string& user) const {
+  const auto row = UserStore(store_.db()).user(user);
+  if (!row) return std::nullopt;
+  return role_from(row->role);
+}
+
+bool ApiKeys::has_keys(const std::string& user) const {
+  std::shared_lock lock(mutex_);
+  for (const auto& [digest, p] : by_digest_)
+    if (p.user == user) return true;
+  return false;
 }
 
 }  // namespace salient::server

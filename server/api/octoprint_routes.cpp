@@ -24,24 +24,12 @@ namespace salient::server {
 using nlohmann::json;
 
 void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config,
-                          OctoState& octo_state, Sessions& sessions) {
+                          OctoState& octo_state, [[maybe_unused]] Sessions& sessions) {
   OctoState* octo = &octo_state;
   const std::size_t max_json = config.max_json_bytes, depth = static_cast<std::size_t>(config.max_json_depth);
 
   router.add("GET", "/api/server", Access::key, [](const HttpRequest&, const PathParams&) {
     return json_response(200, {{"version", "1.10.0"}, {"safemode", nullptr}});
-  });
-  // Passive login: OctoPrint answers with the user the key belongs to.
-  router.add("POST", "/api/login", Access::key, [&sessions](const HttpRequest&, const PathParams&) {
-    const std::string user = "admin";  // the owner of the first start's key
-    return json_response(200, {{"name", user},
-                               {"session", sessions.open(user)},
-                               {"active", true},
-                               {"admin", true},
-                               {"user", true},
-                               {"groups", {"admins", "users"}},
-                               {"permissions", json::array()},
-                               {"_is_external_client", false}});
   });
   router.add("GET", "/api/settings", Access::key, [](const HttpRequest&, const PathParams&) {
     return json_response(200, {{"api", {{"enabled", true}, {"allowCrossOrigin", false}}},

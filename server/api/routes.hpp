@@ -31,6 +31,10 @@ class Sessions;
 // are what passive logins hand out.
 void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config,
                           OctoState& octo, Sessions& sessions);
+class AppKeyRequests;
+// /api/login (passive), /api/currentuser, /api/v1/keys… (list, create, revoke, app requests and
+// their decisions) and OctoPrint's /plugin/appkeys/… (probe, request, poll, decision).
+void add_auth_routes(Router& router, ApiKeys& keys, Sessions& sessions, AppKeyRequests& requests);
 // The web page (open): / and /web/{file} from the binary, /vendor/{three,chart.js}/… from
 // config.web_vendor_dir.
 void add_web_routes(Router& router, const DaemonConfig& config);

@@ -3,10 +3,13 @@
 #pragma once
 
 #include <map>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <utility>
 #include <vector>
+
+#include "server/http/principal.hpp"
 
 namespace salient::server {
 
@@ -18,6 +21,8 @@ struct HttpRequest {
   std::map<std::string, std::string> headers;  // names in lower case
   std::string body;
   std::string remote;  // peer address
+  // Who called: set by the router on a keyed route once the key is checked; empty on open routes.
+  std::optional<Principal> caller;
 
   // The header's value, or "" when absent (`name` in lower case).
   std::string header(std::string_view name) const;

@@ -1,5 +1,6 @@
 #include "server/http/router.hpp"
 
+#include <charconv>
 #include <nlohmann/json.hpp>
 
 #include "server/common/json_text.hpp"
@@ -69,7 +70,59 @@ bool match_pattern(const std::string& pattern, const std::string& path, PathPara
   return p == pattern.size() && s == path.size();
 }
 
-std::optional<HttpResponse> Router::refusal(const HttpRequest& request, std::string* route_name) const {
+std::optional<Role> needed_role(Access access, const std::string& method) {
+  switch (access) {
+    case Access::open:
+      return std::nullopt;
+    case Access::key:
+      return method == "GET" || method == "HEAD" ? Role::viewer : Role::operator_;
+    case Access::viewer:
+      return Role::viewer;
+    case Access::operator_:
+      return Role::operator_;
+    case Access::admin:
+      return Role::admin;
+  }
+  return Role::admin;
+}
+
+bool octoprint_path(const std::string& path) {
+  const auto under = [&](std::string_view prefix) { return path.rfind(prefix, 0) == 0; };
+  if (under("/api/v1/") || path == "/api/v1") return false;
+  return under("/api/") || under("/plugin/") || under("/downloads/");
+}
+
+namespace {
+
+HttpResponse unauthenticated(const HttpRequest& request) {
+  if (octoprint_path(request.path))
+    return error_response(403, "forbidden", "a valid API key is required: X-Api-Key: KEY");
+  HttpResponse r = error_response(401, "unauthorized",
+                                  "an API key is required: X-Api-Key: KEY or Authorization: Bearer KEY");
+  r.headers.emplace_back("WWW-Authenticate", "Bearer realm=\"salient\"");
+  return r;
+}
+
+// An open route's body, judged on the headers: a declared length within kOpenBodyLimit.
+std::optional<HttpResponse> open_body_refusal(const HttpRequest& request) {
+  const std::string length = request.header("content-length");
+  if (length.empty()) {
+    if (request.header("transfer-encoding").empty()) return std::nullopt;
+    return error_response(411, "length_required", "send this request with a Content-Length");
+  }
+  std::size_t n = 0;
+  const auto [end, ec] = std::from_chars(length.data(), length.data() + length.size(), n);
+  if (ec != std::errc() || end != length.data() + length.size() || n > kOpenBodyLimit)
+    return error_response(
+        413, "too_large",
+        "a request without an API key may carry at most " + std::to_string(kOpenBodyLimit) + " bytes");
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<HttpResponse> Router::check(const HttpRequest& request, std::string* route_name,
+                                          const Route** matched, std::optional<Principal>* caller) const {
   std::string allowed;
   PathParams params;
   for (const Route& route : routes_) {
@@ -79,9 +132,17 @@ std::optional<HttpResponse> Router::refusal(const HttpRequest& request, std::str
       continue;
     }
     if (route_name) *route_name = route.name;
-    if (route.access == Access::key && authenticate_ && !authenticate_(request))
-      return error_response(401, "unauthorized",
-                            "an API key is required: X-Api-Key: KEY or Authorization: Bearer KEY");
+    if (matched) *matched = &route;
+    const std::optional<Role> needed = needed_role(route.access, request.method);
+    if (!needed) return open_body_refusal(request);
+    if (!authenticate_) return std::nullopt;
+    std::optional<Principal> who = authenticate_(request);
+    if (!who) return unauthenticated(request);
+    if (who->role < *needed)
+      return error_response(403, "forbidden",
+                            "the key of '" + who->user + "' (" + std::string(to_string(who->role)) +
+                                ") may not do this: it needs the role " + std::string(to_string(*needed)));
+    if (caller) *caller = std::move(who);
     return std::nullopt;
   }
   if (route_name) *route_name = "unmatched";
@@ -96,26 +157,31 @@ std::optional<HttpResponse> Router::refusal(const HttpRequest& request, std::str
   return error_response(404, "not_found", "no such endpoint: " + request.path.substr(0, 256));
 }
 
-HttpResponse Router::dispatch(const HttpRequest& request, std::string* route_name) const {
-  if (auto refused = refusal(request, route_name)) return *refused;
+std::optional<HttpResponse> Router::refusal(const HttpRequest& request, std::string* route_name) const {
+  return check(request, route_name, nullptr, nullptr);
+}
+
+HttpResponse Router::dispatch(HttpRequest& request, std::string* route_name) const {
+  const Route* route = nullptr;
+  std::optional<Principal> caller;
+  // The key is checked again with the body read: it may have been revoked in between.
+  if (auto refused = check(request, route_name, &route, &caller)) return *refused;
+  request.caller = std::move(caller);
   PathParams params;
-  for (const Route& route : routes_) {
-    if (!serves(route, request.method) || !match_pattern(route.pattern, request.path, params)) continue;
-    try {
-      return route.handler(request, params);
-    } catch (const ApiError& e) {
-      HttpResponse r = error_response(e.status(), e.code(), e.what());
-      r.headers.insert(r.headers.end(), e.headers().begin(), e.headers().end());
-      return r;
-    } catch (const DomainError& e) {
-      return domain_error_response(e);
-    } catch (const std::exception& e) {
-      if (map_exception_)
-        if (auto r = map_exception_(e, route.name)) return *r;
-      return error_response(500, "internal", "internal error (logged)");
-    }
+  match_pattern(route->pattern, request.path, params);
+  try {
+    return route->handler(request, params);
+  } catch (const ApiError& e) {
+    HttpResponse r = error_response(e.status(), e.code(), e.what());
+    r.headers.insert(r.headers.end(), e.headers().begin(), e.headers().end());
+    return r;
+  } catch (const DomainError& e) {
+    return domain_error_response(e);
+  } catch (const std::exception& e) {
+    if (map_exception_)
+      if (auto r = map_exception_(e, route->name)) return *r;
+    return error_response(500, "internal", "internal error (logged)");
   }
-  return error_response(404, "not_found", "no such endpoint: " + request.path.substr(0, 256));
 }
 
 }  // namespace salient::server

@@ -1,7 +1,7 @@
 // Router: every endpoint declared once, with its method, path pattern ("/api/v1/jobs/{id}"),
-// access (open, or an API key) and handler. Handlers throw ApiError (or services a DomainError) for a
-// client's mistake; the router turns it, and anything unexpected, into the JSON error body {"error": {code,
-// message}}.
+// access (open, or an API key and the role it needs) and handler. Handlers throw ApiError (or services a
+// DomainError) for a client's mistake; the router turns it, and anything unexpected, into the JSON error body
+// {"error": {code, message}}.
 #pragma once
 
 #include <functional>
@@ -41,7 +41,17 @@ HttpResponse domain_error_response(const DomainError& e);
 
 using PathParams = std::map<std::string, std::string>;
 using Handler = std::function<HttpResponse(const HttpRequest&, const PathParams&)>;
-enum class Access { open, key };
+// key: any key whose role suffices for the method — GET and HEAD read (viewer), anything else
+// acts (operator). viewer/operator_/admin: that role whatever the method (a POST that only reads
+// such as OctoPrint's passive login; key management).
+enum class Access { open, key, viewer, operator_, admin };
+// The role a route needs from its caller; nothing for an open route.
+std::optional<Role> needed_role(Access access, const std::string& method);
+// OctoPrint's own paths (/api/… other than /api/v1, /plugin/…, /downloads/…) answer 403 where
+// ours answer 401: OctoPrint does, and its clients (FDM Monster) read 403 as "wrong key".
+bool octoprint_path(const std::string& path);
+// The most body an open route reads (a client without a key may send no more).
+inline constexpr std::size_t kOpenBodyLimit = 4096;
 
 struct Route {
   std::string method;
@@ -54,7 +64,10 @@ struct Route {
 class Router {
  public:
   void add(std::string method, std::string pattern, Access access, Handler handler);
-  void set_authenticator(std::function<bool(const HttpRequest&)> check) { authenticate_ = std::move(check); }
+  // The caller of a request, from its key; nothing when it has none or a wrong one. Without an
+  // authenticator every keyed route is served (tests of the rest).
+  using Authenticator = std::function<std::optional<Principal>(const HttpRequest&)>;
+  void set_authenticator(Authenticator check) { authenticate_ = std::move(check); }
   // Turns an exception a handler let through (not an ApiError) into the response: a full disk
   // into 507, say. Without one, or when it returns nothing, it is a 500 that names no detail
   // (which may hold paths); `route` is the matched pattern, for the log.
@@ -62,17 +75,26 @@ class Router {
       std::function<std::optional<HttpResponse>(const std::exception&, const std::string& route)>;
   void set_exception_mapper(ExceptionMapper mapper) { map_exception_ = std::move(mapper); }
 
-  // 404 when no pattern matches, 405 (with Allow) when only the method is wrong, 401 without a
-  // valid key on a keyed route. `route_name` gets the matched pattern (or "unmatched").
-  HttpResponse dispatch(const HttpRequest& request, std::string* route_name = nullptr) const;
-  // The 404, 405 or 401 that `request` gets whatever its body: the server asks this on the
-  // headers alone, so that nobody without a key can make it read (and hold) a body.
+  // 404 when no pattern matches, 405 (with Allow) when only the method is wrong; on a keyed route
+  // 401 (ours, with WWW-Authenticate) or 403 (OctoPrint's paths) without a valid key, and 403
+  // with a key whose role is too low. Sets request.caller for the handler. `route_name` gets the
+  // matched pattern (or "unmatched").
+  HttpResponse dispatch(HttpRequest& request, std::string* route_name = nullptr) const;
+  HttpResponse dispatch(HttpRequest&& request, std::string* route_name = nullptr) const {
+    return dispatch(request, route_name);
+  }
+  // The 404, 405, 401, 403, 411 or 413 that `request` gets whatever its body: the server asks
+  // this on the headers alone, so that nobody without a key can make it read (and hold) a body
+  // — an open route reads at most kOpenBodyLimit bytes, of a declared length.
   std::optional<HttpResponse> refusal(const HttpRequest& request, std::string* route_name = nullptr) const;
   const std::vector<Route>& routes() const { return routes_; }
 
  private:
+  // The refusal, else the matched route and (on a keyed route) its caller.
+  std::optional<HttpResponse> check(const HttpRequest& request, std::string* route_name, const Route** route,
+                                    std::optional<Principal>* caller) const;
   std::vector<Route> routes_;
-  std::function<bool(const HttpRequest&)> authenticate_;
+  Authenticator authenticate_;
   ExceptionMapper map_exception_;
 };
 

@@ -75,6 +75,19 @@ CREATE TABLE print_queue (
 );
 CREATE INDEX print_queue_by_printer ON print_queue (printer_id, position);
 )sql",
+    // 4: users with roles; every key belongs to one. The keys made before (hex, the first
+    // start's) belong to the user 'admin', who is an admin.
+    R"sql(
+CREATE TABLE users (
+  name TEXT PRIMARY KEY,
+  role TEXT NOT NULL CHECK (role IN ('admin', 'operator', 'viewer')),
+  created_at REAL NOT NULL
+);
+INSERT INTO users (name, role, created_at)
+  VALUES ('admin', 'admin', COALESCE((SELECT MIN(created_at) FROM api_keys), CAST(strftime('%s', 'now') AS REAL)));
+ALTER TABLE api_keys ADD COLUMN user TEXT NOT NULL DEFAULT 'admin';
+CREATE INDEX api_keys_by_user ON api_keys (user);
+)sql",
 };
 
 }  // namespace

@@ -35,7 +35,8 @@ struct Page {
     }
     DaemonConfig config;
     config.web_vendor_dir = (dir.path / "js").string();
-    router.set_authenticator([](const HttpRequest&) { return false; });  // no key: the page is open
+    router.set_authenticator(
+        [](const HttpRequest&) { return std::optional<Principal>(); });  // no key: the page is open
     add_web_routes(router, config);
   }
   HttpResponse get(const std::string& target, const std::string& if_none_match = "") const {

@@ -121,7 +121,7 @@ eventually 60 last_two || fail "commands not executed: $(tail -3 sim.log)"
 # What OctoPrint refuses, salientd refuses the same way.
 [ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" -F "file=@$models/cube_binary.ply" "$base/api/files/local")" = 415 ] \
   || fail "a model uploaded as G-code"
-[ "$(curl -s -o /dev/null -w '%{http_code}' -F "file=@cube.gcode" "$base/api/files/local")" = 401 ] || fail "upload without key"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -F "file=@cube.gcode" "$base/api/files/local")" = 403 ] || fail "upload without key (403, as OctoPrint)"
 [ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" -H "Content-Type: application/json" -d '{"command": "pause", "action": "pause"}' "$base/api/job")" = 409 ] \
   || fail "pause with nothing printing"
 stop

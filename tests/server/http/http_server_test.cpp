@@ -66,7 +66,8 @@ struct Running {
     router.add("GET", "/hello/{who}", Access::open, [](const HttpRequest& r, const PathParams& p) {
       return HttpResponse::text(200, "hello " + p.at("who") + (r.query.count("x") ? r.query.at("x") : ""));
     });
-    router.add("POST", "/echo", Access::open,
+    // Keyed (served to all without an authenticator): an open route reads no body above 4 KB.
+    router.add("POST", "/echo", Access::key,
                [](const HttpRequest& r, const PathParams&) { return HttpResponse::text(200, r.body); });
     options.port = 0;
     options.body_limit = body_limit;
@@ -186,7 +187,10 @@ TEST_CASE("the key is checked on the headers: a 60 MB body without it is refused
     r.router.add("POST", "/upload", Access::key, [](const HttpRequest& q, const PathParams&) {
       return HttpResponse::text(201, std::to_string(q.body.size()));
     });
-    r.router.set_authenticator([](const HttpRequest& q) { return q.header("x-api-key") == "k"; });
+    r.router.set_authenticator([](const HttpRequest& q) -> std::optional<Principal> {
+      if (q.header("x-api-key") != "k") return std::nullopt;
+      return Principal{"tester", Role::admin};
+    });
   });
   const int fd = connect_to(s.port);
   set_receive_timeout(fd, 3);

@@ -1,0 +1,62 @@
+// AppKeyRequests: OctoPrint's application-key workflow (its appkeys plugin). An app asks for a
+// key without one (POST /plugin/appkeys/request) and polls with its app token; a person with an
+// admin key sees the request (by its user token) and approves or denies it; the app's next poll
+// gets the key. In memory, as OctoPrint keeps them; bounded, since anyone may ask: at most
+// kMaxPending requests wait, each address may ask 3 times a minute and 10 times an hour, a
+// request lives 10 minutes (OctoPrint's cutoff) and goes sooner if its app stops polling.
+// Time is passed in (steady seconds), so that tests need not wait.
+#pragma once
+
+#include <cstddef>
+#include <deque>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "server/http/principal.hpp"
+
+namespace salient::server {
+
+struct AppKeyRequest {
+  std::string app, user;  // user: whom the app asked a key for ("" for anyone)
+  std::string remote;     // the asking address
+  std::string app_token, user_token;
+  double created = 0, polled = 0;
+  // Once decided: approved, for whom and with which role (a new user's).
+  bool decided = false;
+  std::string key_user;
+  std::optional<Role> key_role;
+};
+
+class AppKeyRequests {
+ public:
+  static constexpr std::size_t kMaxPending = 16;
+  static constexpr double kLifetime = 600;    // seconds a request (or an unfetched approval) lives
+  static constexpr double kPollTimeout = 60;  // seconds without a poll before a request goes
+  static constexpr std::size_t kPerMinute = 3, kPerHour = 10;
+
+  // The new request's app token and user token; TooBusy when full or when `remote` asks too often.
+  AppKeyRequest open(const std::string& app, const std::string& user, const std::string& remote, double now);
+
+  enum class Poll { pending, approved, unknown };
+  struct PollResult {
+    Poll state = Poll::unknown;
+    AppKeyRequest request;  // when approved: whom the key is for; the request is then gone
+  };
+  PollResult poll(const std::string& app_token, double now);
+  // Approves (the key for `key_user`, made with `role` if the user is new) or denies the request
+  // of that user token (or app token). False: no such pending request.
+  bool decide(const std::string& token, bool approve, const std::string& key_user, std::optional<Role> role,
+              double now);
+  std::optional<AppKeyRequest> pending(const std::string& token, double now);
+  std::vector<AppKeyRequest> pending(double now);
+
+ private:
+  void expire(double now);
+  std::mutex mutex_;
+  std::deque<AppKeyRequest> requests_;
+  std::deque<std::pair<std::string, double>> asked_;  // (address, when), the last hour, bounded
+};
+
+}  // namespace salient::server

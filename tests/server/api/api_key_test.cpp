@@ -1,0 +1,163 @@
+// API keys, users and roles on a real store: keys of 43 URL-safe characters stored as digests,
+// made and revoked at run time and seen at once, the last admin key kept, bad names and roles
+// refused, and a hex key of the schema before users (version 3) still an admin's after the
+// migration.
+#include "server/api/api_key.hpp"
+
+#include <doctest/doctest.h>
+#include <sys/stat.h>
+
+#include <fstream>
+#include <regex>
+#include <thread>
+
+#include "server/common/domain_error.hpp"
+#include "server/store/sha256.hpp"
+#include "server/store/user_store.hpp"
+#include "tests/support/scratch_dir.hpp"
+
+using namespace salient::server;
+
+namespace {
+
+bool url_safe_43(const std::string& key) {
+  return std::regex_match(key, std::regex("^[A-Za-z0-9_-]{43}$"));
+}
+
+HttpRequest with_key(const std::string& header, const std::string& key) {
+  HttpRequest r;
+  r.headers[header] = key;
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("the first start's key: 43 URL-safe characters, mode 0600, the admin's, stored as a digest") {
+  salient::test::ScratchDir dir("keys-first");
+  Store store(dir.path);
+  const ApiKey first = ensure_api_key(store);
+  REQUIRE(first.created);
+  CHECK(url_safe_43(first.key));
+  std::ifstream file(dir.path / "api-key");
+  std::string line;
+  std::getline(file, line);
+  CHECK(line == first.key);
+  struct stat st {};
+  REQUIRE(::stat((dir.path / "api-key").c_str(), &st) == 0);
+  CHECK((st.st_mode & 0777) == 0600);
+  CHECK_FALSE(ensure_api_key(store).created);  // made once
+
+  ApiKeys keys(store);
+  const auto who = keys.authenticate(with_key("x-api-key", first.key));
+  REQUIRE(who);
+  CHECK(who->user == "admin");
+  CHECK(who->role == Role::admin);
+  CHECK(keys.authenticate(with_key("authorization", "Bearer " + first.key)));
+  const auto rows = UserStore(store.db()).keys();
+  REQUIRE(rows.size() == 1);
+  CHECK(rows[0].digest == sha256_hex(first.key));
+  CHECK(rows[0].digest != first.key);
+}
+
+TEST_CASE("keys made and revoked at run time are seen at once, from any thread") {
+  salient::test::ScratchDir dir("keys-runtime");
+  Store store(dir.path);
+  const std::string admin_key = ensure_api_key(store).key;
+  ApiKeys keys(store);
+  const NewKey viewer = keys.create("vic", Role::viewer, "phone");
+  CHECK(url_safe_43(viewer.key));
+  CHECK(viewer.info.user == "vic");
+  CHECK(viewer.info.role == Role::viewer);
+  CHECK(viewer.info.label == "phone");
+  std::optional<Principal> seen;
+  std::thread([&] { seen = keys.principal(viewer.key); }).join();  // another thread, its own connection
+  REQUIRE(seen);
+  CHECK(seen->user == "vic");
+  CHECK(seen->role == Role::viewer);
+  CHECK(seen->key_id == viewer.info.id);
+  // A second key for the same user takes the user's role; another role is a conflict.
+  const NewKey again = keys.create("vic", std::nullopt, "");
+  CHECK(keys.principal(again.key)->role == Role::viewer);
+  CHECK(again.key != viewer.key);
+  CHECK_THROWS_AS(keys.create("vic", Role::admin, ""), Conflict);
+  // A new user without a role is a viewer: least power by default.
+  CHECK(keys.principal(keys.create("nora", std::nullopt, "").key)->role == Role::viewer);
+  CHECK(keys.has_keys("vic"));
+
+  keys.revoke(viewer.info.id);
+  CHECK_FALSE(keys.valid_key(viewer.key));
+  CHECK(keys.valid_key(again.key));
+  CHECK_THROWS_AS(keys.revoke(viewer.info.id), NotFound);
+  keys.revoke(again.info.id);
+  CHECK_FALSE(keys.has_keys("vic"));
+  CHECK(keys.valid_key(admin_key));
+  // A restart reads the same keys.
+  ApiKeys reread(store);
+  CHECK(reread.valid_key(admin_key));
+  CHECK_FALSE(reread.valid_key(again.key));
+  CHECK(reread.list().size() == 2);
+}
+
+TEST_CASE("the last admin key is never revoked, and another admin key frees it") {
+  salient::test::ScratchDir dir("keys-last-admin");
+  Store store(dir.path);
+  const std::string first = ensure_api_key(store).key;
+  ApiKeys keys(store);
+  const long long first_id = keys.principal(first)->key_id;
+  keys.create("otto", Role::operator_, "");  // an operator's key does not count
+  try {
+    keys.revoke(first_id);
+    FAIL("the last admin key was revoked");
+  } catch (const Conflict& e) {
+    CHECK(e.code() == "last_admin_key");
+  }
+  CHECK(keys.valid_key(first));
+  const NewKey second = keys.create("ada", Role::admin, "");
+  keys.revoke(first_id);
+  CHECK_FALSE(keys.valid_key(first));
+  CHECK_THROWS_AS(keys.revoke(second.info.id), Conflict);
+}
+
+TEST_CASE("bad user names, labels and keys are refused, never crash") {
+  salient::test::ScratchDir dir("keys-bad");
+  Store store(dir.path);
+  ensure_api_key(store);
+  ApiKeys keys(store);
+  for (const std::string& name :
+       {std::string(), std::string("_api"), std::string("a b"), std::string(65, 'a'), std::string("é"),
+        std::string("a/b"), std::string("x\n")})
+    CHECK_THROWS_AS(keys.create(name, Role::viewer, ""), BadRequest);
+  CHECK_THROWS_AS(keys.create("ok", Role::viewer, std::string(129, 'l')), BadRequest);
+  CHECK_THROWS_AS(keys.create("ok", Role::viewer, "tab\there"), BadRequest);
+  CHECK(valid_user_name("fdm-monster_2.0"));
+  for (const std::string& key :
+       {std::string(), std::string(100000, 'a'), std::string("\0\0", 2), std::string("' OR 1=1 --")})
+    CHECK_FALSE(keys.valid_key(key));
+  CHECK(keys.list().size() == 1);
+}
+
+TEST_CASE("a hex key of a data directory from before users (schema 3) is the admin's after the migration") {
+  salient::test::ScratchDir dir("keys-migration");
+  std::filesystem::create_directories(dir.path);
+  const std::string hex = "0123456789abcdef0123456789abcdef0123456789abcdef0123456789abcdef";
+  {
+    // Schema 3 as it shipped: api_keys without a user, no users table.
+    Database old(dir.path / "salient.db");
+    old.exec(
+        "DROP INDEX api_keys_by_user; ALTER TABLE api_keys DROP COLUMN user; DROP TABLE users; "
+        "PRAGMA user_version = 3;");
+    old.prepare("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', 1)")
+        .bind(1, std::string_view(sha256_hex(hex)))
+        .run();
+  }
+  Store store(dir.path);  // this thread's first connection to it: migrates 3 -> latest
+  CHECK(store.db().schema_version() == Database::latest_schema_version());
+  CHECK_FALSE(ensure_api_key(store).created);  // a key exists: no new one
+  ApiKeys keys(store);
+  const auto who = keys.principal(hex);
+  REQUIRE(who);
+  CHECK(who->user == "admin");
+  CHECK(who->role == Role::admin);
+  // And it is the admin key that may not go last.
+  CHECK_THROWS_AS(keys.revoke(who->key_id), Conflict);
+}
