@@ -131,9 +131,14 @@ class Session : public std::enable_shared_from_this<Session> {
       return reply_error(400, "bad_request", "Transfer-Encoding must end with chunked");
     if (!split_target(request_.target, request_.path, request_.query))
       return respond(error_response(400, "bad_request", "malformed percent-encoding in the URL"), false);
-    // An upgrade is judged by the WebSocket acceptor (its own paths and key); anything else by the router.
-    const bool upgrade = websocket::is_upgrade(in) && shared_.options.websocket;
-    if (!upgrade)
+    // An upgrade to a WebSocket's path is judged by its acceptor (its own key); anything else by
+    // the router.
+    acceptor_ = nullptr;
+    if (websocket::is_upgrade(in))
+      if (const auto it = shared_.options.websockets.find(request_.path);
+          it != shared_.options.websockets.end())
+        acceptor_ = &it->second;
+    if (!acceptor_)
       if (auto refused = shared_.router.refusal(request_, &route_))
         return respond(std::move(*refused), false);
     if (parser_->is_done()) return on_request();
@@ -171,9 +176,9 @@ class Session : public std::enable_shared_from_this<Session> {
   void on_request() {
     auto& in = parser_->get();
     request_.body = std::move(in.body());
-    if (websocket::is_upgrade(in) && shared_.options.websocket) {
-      route_ = "websocket";
-      WebSocketAccept accepted = shared_.options.websocket(request_);
+    if (acceptor_) {
+      route_ = "websocket " + request_.path;
+      WebSocketAccept accepted = (*acceptor_)(request_);
       if (accepted.channel) return upgrade(std::move(accepted.channel), accepted.subprotocol);
       return respond(std::move(accepted.refusal), false);
     }
@@ -288,6 +293,7 @@ class Session : public std::enable_shared_from_this<Session> {
   Clock::time_point started_ = Clock::now();
   bool busy_ = false, keep_alive_ = false, closing_ = false, writing_ = false, reading_body_ = false;
   bool linger_started_ = false, upgraded_ = false;
+  const WebSocketAcceptor* acceptor_ = nullptr;  // the request is an upgrade to this one's path
   int response_status_ = 0;
   std::size_t reserved_ = 0, lingered_ = 0;
   Clock::time_point linger_until_{};

@@ -35,8 +35,7 @@ struct Running {
   Running() {
     HttpServerOptions options;
     options.port = 0;
-    options.websocket = [this](const HttpRequest& r) -> WebSocketAccept {
-      if (r.path != "/events") return {nullptr, error_response(404, "not_found", "no WebSocket here")};
+    options.websockets["/events"] = [this](const HttpRequest& r) -> WebSocketAccept {
       if (r.header("x-api-key") != "k") return {nullptr, error_response(401, "unauthorized", "key")};
       return {hub.subscribe(), {}};
     };
