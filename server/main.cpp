@@ -152,9 +152,11 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_octoprint_routes(router, store, printers, config, octo, sessions);
   add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());
   add_event_route(router);
+  add_sockjs_routes(router);
   add_web_routes(router, config);
   http.websockets["/api/v1/events"] = events_endpoint(hub, keys);
   http.websockets["/sockjs/websocket"] = push.acceptor();
+  http.websockets["/sockjs/*"] = push.sockjs_acceptor();
   HttpServer server(http, router);
   const unsigned short port = server.start();
   jobs.start();

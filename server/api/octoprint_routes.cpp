@@ -174,13 +174,8 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                          {"printTimeLeft", nullptr}};
         std::string name;
         if (s.print) {
-          const PrinterStatus::Running& p = *s.print;
-          const std::optional<double> eta = p.eta();
-          name = p.record.filename;
-          progress = {{"completion", p.fraction() * 100},
-                      {"filepos", p.record.confirmed},
-                      {"printTime", p.elapsed},
-                      {"printTimeLeft", eta ? json(*eta) : json(nullptr)}};
+          name = s.print->record.filename;
+          progress = progress_json(s);  // as the push socket's: filepos in bytes
         } else {
           std::lock_guard lock(octo->mutex);
           name = octo->selected;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <nlohmann/json.hpp>
 
+#include "server/api/api_json.hpp"
 #include "server/api/octoprint_json.hpp"
 #include "server/api/push_event.hpp"
 #include "server/api/sessions.hpp"
@@ -79,6 +80,23 @@ WebSocketAcceptor PushHub::acceptor() {
     std::erase_if(channels_, [](const auto& w) { return w.expired(); });
     channels_.push_back(channel);
     return {channel, {}};
+  };
+}
+
+WebSocketAcceptor PushHub::sockjs_acceptor() {
+  return [this](const HttpRequest& r) -> WebSocketAccept {
+    if (!is_sockjs_websocket_path(r.path))
+      return {nullptr, error_response(
+                           404, "not_found",
+                           "no SockJS endpoint at " + r.path + ": use /sockjs/{server}/{session}/websocket")};
+    auto channel = std::make_shared<PushChannel>(*this, connected_, limits_);
+    auto framed = std::make_shared<SockJsChannel>(channel);
+    std::lock_guard lock(channels_mutex_);
+    std::erase_if(channels_, [](const auto& w) { return w.expired(); });
+    std::erase_if(sockjs_, [](const auto& w) { return w.first.expired(); });
+    channels_.push_back(channel);
+    sockjs_.emplace_back(framed, channel);
+    return {framed, {}};
   };
 }
 
@@ -182,7 +200,20 @@ void PushHub::run() {
       if (c->due()) c->wake();
     }
     logs_wanted_ = logs;
+    heartbeats();
   }
+}
+
+void PushHub::heartbeats() {
+  std::vector<std::pair<std::shared_ptr<SockJsChannel>, std::shared_ptr<PushChannel>>> due;
+  {
+    std::lock_guard lock(channels_mutex_);
+    std::erase_if(sockjs_, [](const auto& w) { return w.first.expired(); });
+    for (const auto& [framed, channel] : sockjs_)
+      if (auto f = framed.lock(); f && f->heartbeat_due())
+        if (auto c = channel.lock()) due.emplace_back(std::move(f), std::move(c));
+  }
+  for (const auto& [framed, channel] : due) channel->wake();
 }
 
 void PushHub::publish_state_changes(Printer& printer,

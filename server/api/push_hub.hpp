@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "server/api/push_channel.hpp"
+#include "server/api/push_sockjs.hpp"
 #include "server/http/websocket_channel.hpp"
 #include "server/printers/printer_service.hpp"
 #include "server/store/store.hpp"
@@ -53,6 +54,9 @@ class PushHub : public PushFeed {
   // The acceptor for HttpServerOptions::websockets["/sockjs/websocket"]: open to anyone (as
   // OctoPrint's: a client gets nothing but `connected` until it authenticates).
   WebSocketAcceptor acceptor();
+  // The same behind SockJS's framing, for HttpServerOptions::websockets["/sockjs/*"]
+  // (/sockjs/{server}/{session}/websocket; any other path under /sockjs/ is 404).
+  WebSocketAcceptor sockjs_acceptor();
   // What the printers' hooks add for the push socket (chained after `events`' own).
   PrinterEvents hooks(PrinterEvents events);
 
@@ -69,6 +73,7 @@ class PushHub : public PushFeed {
   void terminal(const Printer& printer, bool sent, std::string_view line);
   void files_changed(const std::string& added);
   std::vector<std::shared_ptr<PushChannel>> live_channels();
+  void heartbeats();  // wakes the SockJS clients that have been silent too long
   void publish_state_changes(Printer& printer, const std::vector<std::shared_ptr<PushChannel>>& channels);
   bool publish_progress(Printer& printer, const std::vector<std::shared_ptr<PushChannel>>& channels);
   std::shared_ptr<const std::string> current_part(Printer& printer, const PrinterStatus& status);
@@ -104,6 +109,8 @@ class PushHub : public PushFeed {
 
   mutable std::mutex channels_mutex_;
   std::vector<std::weak_ptr<PushChannel>> channels_;
+  // SockJS clients' framing (for heartbeats), beside their PushChannel (to wake them by).
+  std::vector<std::pair<std::weak_ptr<SockJsChannel>, std::weak_ptr<PushChannel>>> sockjs_;
 };
 
 }  // namespace salient::server

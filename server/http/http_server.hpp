@@ -33,8 +33,10 @@ struct HttpServerOptions {
   // Called after each response: method (one of the HTTP verbs, or "OTHER"), route name, status,
   // seconds (for logs and metrics).
   std::function<void(const std::string&, const std::string&, int, double)> on_response;
-  // Upgrade requests by exact path ("/api/v1/events", "/sockjs/websocket"); an upgrade to any
-  // other path is served as a plain HTTP request (the router's 404, or its 426 route).
+  // Upgrade requests by path: exact ("/api/v1/events", "/sockjs/websocket"), or a prefix when
+  // the key ends with "/*" ("/sockjs/*": the acceptor checks the rest; an exact key wins, then
+  // the longest prefix). An upgrade to any other path is served as a plain HTTP request (the
+  // router's 404, or its 426 route).
   std::map<std::string, WebSocketAcceptor> websockets;
 };
 

@@ -133,11 +133,7 @@ class Session : public std::enable_shared_from_this<Session> {
       return respond(error_response(400, "bad_request", "malformed percent-encoding in the URL"), false);
     // An upgrade to a WebSocket's path is judged by its acceptor (its own key); anything else by
     // the router.
-    acceptor_ = nullptr;
-    if (websocket::is_upgrade(in))
-      if (const auto it = shared_.options.websockets.find(request_.path);
-          it != shared_.options.websockets.end())
-        acceptor_ = &it->second;
+    acceptor_ = websocket::is_upgrade(in) ? websocket_acceptor(request_.path) : nullptr;
     if (!acceptor_)
       if (auto refused = shared_.router.refusal(request_, &route_))
         return respond(std::move(*refused), false);
@@ -177,14 +173,30 @@ class Session : public std::enable_shared_from_this<Session> {
     auto& in = parser_->get();
     request_.body = std::move(in.body());
     if (acceptor_) {
-      route_ = "websocket " + request_.path;
-      WebSocketAccept accepted = (*acceptor_)(request_);
+      route_ = "websocket " + acceptor_->first;
+      WebSocketAccept accepted = acceptor_->second(request_);
       if (accepted.channel) return upgrade(std::move(accepted.channel), accepted.subprotocol);
       return respond(std::move(accepted.refusal), false);
     }
     HttpResponse response = shared_.router.dispatch(request_, &route_);
     release_body();
     respond(std::move(response), in.keep_alive());
+  }
+
+  // The acceptor for an upgrade to `path`, with its key (see HttpServerOptions::websockets);
+  // null: none.
+  const WebSocketRoute* websocket_acceptor(const std::string& path) const {
+    const auto& all = shared_.options.websockets;
+    if (const auto it = all.find(path); it != all.end()) return &*it;
+    const WebSocketRoute* best = nullptr;
+    for (const WebSocketRoute& route : all) {
+      const std::string& key = route.first;
+      if (key.size() < 2 || key.compare(key.size() - 2, 2, "/*") != 0) continue;
+      const std::size_t n = key.size() - 1;  // the prefix, with its "/"
+      if (path.size() > n && path.compare(0, n, key, 0, n) == 0 && (!best || n > best->first.size() - 1))
+        best = &route;
+    }
+    return best;
   }
 
   // Hands the connection to a WebSocket session; this HTTP session ends here.
@@ -293,7 +305,7 @@ class Session : public std::enable_shared_from_this<Session> {
   Clock::time_point started_ = Clock::now();
   bool busy_ = false, keep_alive_ = false, closing_ = false, writing_ = false, reading_body_ = false;
   bool linger_started_ = false, upgraded_ = false;
-  const WebSocketAcceptor* acceptor_ = nullptr;  // the request is an upgrade to this one's path
+  const WebSocketRoute* acceptor_ = nullptr;  // the request is an upgrade to this one's path
   int response_status_ = 0;
   std::size_t reserved_ = 0, lingered_ = 0;
   Clock::time_point linger_until_{};

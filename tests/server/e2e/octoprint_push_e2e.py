@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """OctoPrint's push socket (/sockjs/websocket) as FDM Monster uses it, against salientd printing on
-the simulator. FDM Monster (src/services/octoprint/octoprint-websocket.adapter.ts): passive login
+the simulator (and once through SockJS's framing). FDM Monster (src/services/octoprint/octoprint-websocket.adapter.ts): passive login
 for a session, open the socket, {"auth": "name:session"} then {"throttle": n}; it records a print
 from `current` alone: flags.printing with job.file.path starts it, progress.completion moves it,
 flags.finishing (and only that) finishes it, flags.cancelling cancels it. So this test asserts that
@@ -123,6 +123,29 @@ ws.send(json.dumps({"auth": login["name"] + ":not-a-session"}))
 answer = json.loads(ws.recv())
 if "reauthRequired" not in answer or not answer["reauthRequired"].get("reason"):
     fail(f"a wrong auth got {answer}, not reauthRequired")
+
+# The same behind real SockJS framing (OctoPrint's own page, SockJS clients): /sockjs/info first,
+# then "o", a["…"] frames of JSON strings; what the client sends is ["…"].
+status, answer = request("GET", "/sockjs/info", headers={"X-Api-Key": ""})
+if status != 200 or json.loads(answer).get("websocket") is not True:
+    fail(f"/sockjs/info: {status} {answer!r}")
+sock = websocket.create_connection(base.replace("http", "ws") + "/sockjs/012/x7pq2/websocket", timeout=10)
+if sock.recv() != "o":
+    fail("SockJS: the first frame is not 'o'")
+frame = sock.recv()
+if not frame.startswith("a[") or "connected" not in json.loads(json.loads(frame[1:])[0]):
+    fail(f"SockJS: no connected in {frame[:200]!r}")
+sock.send(json.dumps([json.dumps({"auth": f"{login['name']}:{login['session']}"})]))
+frame = sock.recv()
+if not frame.startswith("a[") or "history" not in json.loads(json.loads(frame[1:])[0]):
+    fail(f"SockJS: no history after auth in {frame[:200]!r}")
+sock.close()
+try:
+    websocket.create_connection(base.replace("http", "ws") + "/sockjs/012/x.y/websocket", timeout=10)
+    fail("SockJS: a session id with a dot was accepted")
+except websocket.WebSocketBadStatusException as e:
+    if e.status_code != 404:
+        fail(f"SockJS: a bad path got {e.status_code}, not 404")
 
 messages = []  # (monotonic time received, message)
 closed = threading.Event()
