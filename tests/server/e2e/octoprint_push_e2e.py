@@ -197,6 +197,10 @@ upload_and_print("push.gcode")
 wait_for("PrintDone", event("PrintDone"))
 started = wait_for("PrintStarted", event("PrintStarted"))["event"]["payload"]
 done = wait_for("PrintDone", event("PrintDone"))["event"]["payload"]
+added = wait_for("FileAdded", event("FileAdded"))["event"]["payload"]
+if added.get("path") != "push.gcode" or added.get("storage") != "local":
+    fail(f"FileAdded payload: {added}")
+wait_for("UpdatedFiles", event("UpdatedFiles"))
 if started.get("path") != "push.gcode" or done.get("path") != "push.gcode" or not isinstance(done.get("time"), (int, float)):
     fail(f"event payloads: {started} {done}")
 first_print = [(t, m["current"]) for t, m in messages if "current" in m]
