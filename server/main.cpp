@@ -120,7 +120,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   EventHub hub;
   OctoState octo;
   Sessions sessions;
-  PushHub push(sessions, store, octo);  // OctoPrint's push socket: sees the printers through their hooks
+  PushHub push(sessions, store, octo,
+               log_line);  // OctoPrint's push socket: sees the printers through their hooks
   PrinterService printers(config, store, push.hooks(printer_event_publisher(hub)));
   push.attach(printers);
   hub.set_snapshot(event_snapshots(store, printers));

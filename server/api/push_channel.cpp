@@ -82,13 +82,14 @@ void PushChannel::receive(const std::string& text) {
       throttle_ = static_cast<int>(std::min<long long>(t->get<long long>(), limits_.max_throttle));
     if (const auto s = message.find("subscribe"); s != message.end()) apply_subscription(*s, subscription_);
     if (const auto a = message.find("auth"); a != message.end())
-      authenticate(a->is_string() ? feed_.user_of_auth(a->get<std::string>()) : std::nullopt);
+      authenticate(a->is_string() ? a->get<std::string>() : std::string());
   }
   wake();
 }
 
-void PushChannel::authenticate(std::optional<std::string> user) {
-  user_ = std::move(user);
+void PushChannel::authenticate(const std::string& auth) {
+  user_ = auth.empty() ? std::nullopt : feed_.user_of_auth(auth);
+  auth_ = user_ ? auth : std::string();
   if (!user_) {
     latest_.reset();
     return enqueue({kReauth, nullptr});
@@ -154,6 +155,18 @@ bool PushChannel::due_locked(Clock::time_point now) const {
 bool PushChannel::due() const {
   std::lock_guard lock(mutex_);
   return !closed_ && (due_locked(clock_()) || !overflow_.empty());
+}
+
+void PushChannel::recheck_session() {
+  {
+    std::lock_guard lock(mutex_);
+    if (!user_ || closed_ || feed_.user_of_auth(auth_)) return;
+    user_.reset();
+    auth_.clear();
+    latest_.reset();
+    enqueue({R"({"reauthRequired":{"reason":"removed"}})", nullptr});
+  }
+  wake();
 }
 
 bool PushChannel::authenticated() const {

@@ -82,6 +82,9 @@ class PushChannel : public WebSocketChannel {
   bool due() const;
   void wake() const;
 
+  // The session it authenticated with is gone (logged out, its user's keys revoked): it is told
+  // {"reauthRequired": {"reason": "removed"}} and gets nothing more until it authenticates again.
+  void recheck_session();
   bool authenticated() const;
   bool wants_logs() const;  // authenticated, subscribed to the terminal's lines
   int throttle() const;
@@ -98,7 +101,7 @@ class PushChannel : public WebSocketChannel {
     std::string text;                            // a ready message, or
     std::shared_ptr<const std::string> current;  // the printer's part of a `current`
   };
-  void authenticate(std::optional<std::string> user);       // under mutex_
+  void authenticate(const std::string& auth);               // under mutex_
   void enqueue(Item item);                                  // under mutex_
   std::string compose_current(const std::string& current);  // under mutex_
   bool due_locked(Clock::time_point now) const;
@@ -114,6 +117,7 @@ class PushChannel : public WebSocketChannel {
   Clock::time_point last_current_{};
   bool sent_current_ = false;
   std::optional<std::string> user_;
+  std::string auth_;  // the "name:session" user_ came from
   int throttle_ = 1;
   PushSubscription subscription_;
   PushCursor cursor_;

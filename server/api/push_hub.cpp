@@ -1,6 +1,7 @@
 #include "server/api/push_hub.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "server/api/api_json.hpp"
@@ -48,8 +49,14 @@ std::string connected_message() {
 
 }  // namespace
 
-PushHub::PushHub(Sessions& sessions, Store& store, OctoState& octo, PushLimits limits)
-    : sessions_(sessions), store_(store), octo_(octo), limits_(limits), connected_(connected_message()) {
+PushHub::PushHub(Sessions& sessions, Store& store, OctoState& octo,
+                 std::function<void(const std::string&)> log, PushLimits limits)
+    : sessions_(sessions),
+      store_(store),
+      octo_(octo),
+      log_(std::move(log)),
+      limits_(limits),
+      connected_(connected_message()) {
   octo_.on_files_changed = [this](const std::string& added) { files_changed(added); };
 }
 
@@ -174,34 +181,46 @@ void PushHub::run() {
       progress = std::exchange(progress_pending_, false);
       files.swap(files_pending_);
     }
-    const auto channels = live_channels();
-    Printer* printer = printers_.load()->first();
-    if (!files.empty()) files_.clear();  // sizes and dates may have changed
-    if (printer && (state || progress)) {
-      publish_state_changes(*printer, channels);
-      if (progress && !publish_progress(*printer, channels)) {
-        std::lock_guard lock(mutex_);
-        progress_pending_ = true;  // a change of state came first: it is told, then this
-      }
+    try {
+      turn(state, progress, files);
+    } catch (const std::exception& e) {  // a bug: logged, and the clients are served on
+      if (log_) log_(std::string("push socket internal error: ") + e.what());
     }
-    for (const std::string& added : files) {
-      for (const auto& c : channels) {
-        if (!added.empty())
-          c->event("FileAdded", json_text(json{{"storage", "local"},
-                                               {"path", added},
-                                               {"name", added.substr(added.find_last_of('/') + 1)},
-                                               {"type", {"machinecode", "gcode"}}}));
-        c->event("UpdatedFiles", R"({"type":"printables"})");
-      }
-    }
-    bool logs = false;
-    for (const auto& c : channels) {
-      logs = logs || c->wants_logs();
-      if (c->due()) c->wake();
-    }
-    logs_wanted_ = logs;
-    heartbeats();
   }
+}
+
+void PushHub::turn(bool state, bool progress, const std::vector<std::string>& files) {
+  const auto channels = live_channels();
+  Printer* printer = printers_.load()->first();
+  if (!files.empty()) files_.clear();  // sizes and dates may have changed
+  if (printer && (state || progress)) {
+    publish_state_changes(*printer, channels);
+    if (progress && !publish_progress(*printer, channels)) {
+      std::lock_guard lock(mutex_);
+      progress_pending_ = true;  // a change of state came first: it is told, then this
+    }
+  }
+  for (const std::string& added : files) {
+    for (const auto& c : channels) {
+      if (!added.empty())
+        c->event("FileAdded", json_text(json{{"storage", "local"},
+                                             {"path", added},
+                                             {"name", added.substr(added.find_last_of('/') + 1)},
+                                             {"type", {"machinecode", "gcode"}}}));
+      c->event("UpdatedFiles", R"({"type":"printables"})");
+    }
+  }
+  // Once a second: sessions that ended (a logout, a revoked key) lose their clients' updates.
+  const bool recheck = std::chrono::steady_clock::now() - last_recheck_ >= std::chrono::seconds(1);
+  if (recheck) last_recheck_ = std::chrono::steady_clock::now();
+  bool logs = false;
+  for (const auto& c : channels) {
+    if (recheck) c->recheck_session();
+    logs = logs || c->wants_logs();
+    if (c->due()) c->wake();
+  }
+  logs_wanted_ = logs;
+  heartbeats();
 }
 
 void PushHub::heartbeats() {

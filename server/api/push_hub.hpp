@@ -18,6 +18,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -43,7 +44,9 @@ class PushHub : public PushFeed {
   static constexpr std::size_t kMaxTempsPerUpdate = 300;  // samples in one `current` at most
   static constexpr std::chrono::milliseconds kTick{100};
 
-  PushHub(Sessions& sessions, Store& store, OctoState& octo, PushLimits limits = {});
+  // `log`: one line, for what should not happen (the thread's work threw).
+  PushHub(Sessions& sessions, Store& store, OctoState& octo, std::function<void(const std::string&)> log = {},
+          PushLimits limits = {});
   ~PushHub() override;
   PushHub(const PushHub&) = delete;
   PushHub& operator=(const PushHub&) = delete;
@@ -69,6 +72,7 @@ class PushHub : public PushFeed {
 
  private:
   void run();
+  void turn(bool state, bool progress, const std::vector<std::string>& files);  // one of run()'s
   void changed(const Printer& printer, bool progress);
   void terminal(const Printer& printer, bool sent, std::string_view line);
   void files_changed(const std::string& added);
@@ -84,6 +88,7 @@ class PushHub : public PushFeed {
   Sessions& sessions_;
   Store& store_;
   OctoState& octo_;
+  std::function<void(const std::string&)> log_;
   PushLimits limits_;
   std::string connected_;
   std::atomic<PrinterService*> printers_{nullptr};
@@ -101,6 +106,7 @@ class PushHub : public PushFeed {
   PrinterStatus told_;
   std::uint64_t changes_seen_ = 0;
   std::map<std::string, std::optional<StoredFile>> files_;
+  std::chrono::steady_clock::time_point last_recheck_{};
 
   mutable std::mutex data_mutex_;              // latest_, logs_
   std::shared_ptr<const std::string> latest_;  // the printer's part of the newest `current`

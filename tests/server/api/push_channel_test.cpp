@@ -17,8 +17,9 @@ namespace {
 
 struct Feed : PushFeed {
   int backlogs = 0;
+  bool session_open = true;
   std::optional<std::string> user_of_auth(std::string_view auth) const override {
-    return auth == "admin:good" ? std::optional<std::string>("admin") : std::nullopt;
+    return auth == "admin:good" && session_open ? std::optional<std::string>("admin") : std::nullopt;
   }
   std::string history(PushCursor& cursor, const PushSubscription&) const override {
     cursor.logs_after = 10;
@@ -185,4 +186,22 @@ TEST_CASE("a client that falls behind is cut off with a reason, and its queue is
   h.channel.closed();
   h.channel.state_changed(part("Operational"));  // after the close: dropped, no growth
   CHECK(!h.channel.next());
+}
+
+TEST_CASE("a session that ends (a logout, a revoked key) is told reauthRequired and gets nothing more") {
+  Harness h;
+  h.authenticate();
+  h.channel.recheck_session();  // still open: nothing to say
+  CHECK(h.drain().empty());
+  h.feed.session_open = false;
+  h.channel.recheck_session();
+  auto sent = h.drain();
+  REQUIRE(sent.size() == 1);
+  CHECK(sent[0]["reauthRequired"]["reason"] == "removed");
+  CHECK(!h.channel.authenticated());
+  h.channel.state_changed(part("Printing"));
+  h.channel.event("PrintStarted", "{}");
+  CHECK(h.drain().empty());
+  h.channel.recheck_session();  // told once
+  CHECK(h.drain().empty());
 }
