@@ -15,6 +15,7 @@
 #include "server/api/api_key.hpp"
 #include "server/api/app_key_requests.hpp"
 #include "server/api/octoprint_json.hpp"
+#include "server/api/push_hub.hpp"
 #include "server/api/routes.hpp"
 #include "server/api/sessions.hpp"
 #include "server/build_info.hpp"
@@ -118,7 +119,12 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
   ApiKeys keys(store);
   EventHub hub;
-  PrinterService printers(config, store, printer_event_publisher(hub));
+  OctoState octo;
+  Sessions sessions;
+  PushHub push(sessions, store, octo,
+               log_line);  // OctoPrint's push socket: sees the printers through their hooks
+  PrinterService printers(config, store, push.hooks(printer_event_publisher(hub)));
+  push.attach(printers);
   hub.set_snapshot(event_snapshots(store, printers));
   const auto publish_job = job_event_publisher(hub);
   JobService jobs(store,
@@ -146,15 +152,16 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_system_routes(router);
   add_job_routes(router, store, jobs, printers, config);
   add_printer_routes(router, printers, store, config);
-  OctoState octo;
-  Sessions sessions;
   add_octoprint_routes(router, store, printers, config, octo, sessions);
   AppKeyRequests app_key_requests;
   add_auth_routes(router, keys, sessions, app_key_requests);
   add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());
   add_event_route(router);
+  add_sockjs_routes(router);
   add_web_routes(router, config);
-  http.websocket = events_endpoint(hub, keys);
+  http.websockets["/api/v1/events"] = events_endpoint(hub, keys);
+  http.websockets["/sockjs/websocket"] = push.acceptor();
+  http.websockets["/sockjs/*"] = push.sockjs_acceptor();
   HttpServer server(http, router);
   const unsigned short port = server.start();
   jobs.start();
@@ -176,6 +183,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   // run() returns after stop(), or (a bug) when nothing is left to serve: never exit silently.
   if (!asked) log_line("error: the HTTP server stopped serving without being asked to; stopping");
   jobs.stop(std::chrono::milliseconds(0));  // running jobs are told to stop, not waited for yet
+  push.stop();                              // its thread reads the printers: it ends before they do
   printers.stop();                          // a running print is interrupted (heaters off) and can be resumed
   if (!jobs.stop(std::chrono::seconds(1))) {
     // A job inside one long solve has not seen its cancel yet. Its row says "running", so it is

@@ -118,6 +118,8 @@ std::string state_text(const PrinterStatus& s) {
       return "Paused";
     case PrinterState::cancelling:
       return "Cancelling";
+    case PrinterState::finishing:
+      return "Finishing";
     case PrinterState::connecting:
       return "Connecting";
     case PrinterState::error:
@@ -128,23 +130,45 @@ std::string state_text(const PrinterStatus& s) {
   return "Offline";
 }
 
+std::string state_id(const PrinterStatus& s) {
+  switch (s.state) {
+    case PrinterState::operational:
+      return "OPERATIONAL";
+    case PrinterState::printing:
+      return "PRINTING";
+    case PrinterState::paused:
+      return "PAUSED";
+    case PrinterState::cancelling:
+      return "CANCELLING";
+    case PrinterState::finishing:
+      return "FINISHING";
+    case PrinterState::connecting:
+      return "CONNECTING";
+    case PrinterState::error:
+      return "CLOSED_WITH_ERROR";
+    case PrinterState::disconnected:
+      break;
+  }
+  return "OFFLINE";
+}
+
 json state_json(const PrinterStatus& s) {
-  const bool printing = s.state == PrinterState::printing, paused = s.state == PrinterState::paused,
-             cancelling = s.state == PrinterState::cancelling;
-  const bool operational = busy_printing(s.state) || s.state == PrinterState::operational;
+  const PrinterState st = s.state;
+  const bool operational = busy_printing(st) || st == PrinterState::operational;
   return {{"text", state_text(s)},
           {"flags",
            {{"operational", operational},
-            {"printing", printing},
-            {"paused", paused},
+            {"printing", busy_printing(st) && st != PrinterState::paused},
+            {"paused", st == PrinterState::paused},
             {"pausing", false},
-            {"cancelling", cancelling},
+            {"cancelling", st == PrinterState::cancelling},
             {"resuming", false},
-            {"finishing", false},
+            {"finishing", st == PrinterState::finishing},
             {"sdReady", false},
-            {"error", s.state == PrinterState::error},
-            {"ready", s.state == PrinterState::operational},
-            {"closedOrError", !operational}}}};
+            {"error", st == PrinterState::error},
+            {"ready", st == PrinterState::operational},
+            {"closedOrError", !operational}}},
+          {"error", s.error}};
 }
 
 json temperature_json(const PrinterStatus& s) {
@@ -154,6 +178,62 @@ json temperature_json(const PrinterStatus& s) {
                 {"offset", 0}};
   };
   return {{"tool0", one(s.hotend)}, {"bed", one(s.bed)}};
+}
+
+json temperature_sample_json(const TemperatureSample& sample) {
+  const auto one = [](const Temperature& t) {
+    return json{{"actual", t.actual ? json(*t.actual) : json(nullptr)},
+                {"target", t.target ? json(*t.target) : json(nullptr)}};
+  };
+  return {
+      {"time", static_cast<long long>(sample.time)}, {"tool0", one(sample.hotend)}, {"bed", one(sample.bed)}};
+}
+
+json print_job_json(const PrinterStatus& s, const std::string& selected,
+                    const std::optional<StoredFile>& file, const json& analysis) {
+  const std::string name = s.print ? s.print->record.filename : selected;
+  json f = {{"name", nullptr},   {"path", nullptr}, {"display", nullptr},
+            {"origin", nullptr}, {"size", nullptr}, {"date", nullptr}};
+  if (!name.empty()) {
+    f = {{"name", name},      {"path", name},    {"display", name},
+         {"origin", "local"}, {"size", nullptr}, {"date", nullptr}};
+    if (file && file->name == name)
+      f["size"] = file->size, f["date"] = static_cast<long long>(file->uploaded_at);
+    if (s.print && s.print->file_bytes > 0) f["size"] = s.print->file_bytes;
+  }
+  json estimated = nullptr, filament = nullptr;
+  if (analysis.is_object()) {
+    if (const auto it = analysis.find("estimatedPrintTime"); it != analysis.end()) estimated = *it;
+    if (const auto it = analysis.find("filament"); it != analysis.end()) filament = *it;
+  }
+  json last = nullptr;  // the last print of this file that finished, as OctoPrint keeps it
+  if (s.last_print && s.last_print->filename == name && s.last_print->state == PrintState::finished &&
+      s.last_print->finished_at)
+    last = *s.last_print->finished_at - s.last_print->started_at;
+  return {{"file", f},
+          {"estimatedPrintTime", estimated},
+          {"lastPrintTime", last},
+          {"filament", filament},
+          {"user", nullptr}};
+}
+
+json progress_json(const PrinterStatus& s) {
+  if (!s.print)
+    return {{"completion", nullptr},
+            {"filepos", nullptr},
+            {"printTime", nullptr},
+            {"printTimeLeft", nullptr},
+            {"printTimeLeftOrigin", nullptr}};
+  const PrinterStatus::Running& p = *s.print;
+  const std::optional<double> eta = p.eta();
+  // Completion in bytes, as OctoPrint's (the share of commands when the size is unknown).
+  const double completion =
+      p.file_bytes > 0 ? 100.0 * double(p.filepos) / double(p.file_bytes) : p.fraction() * 100;
+  return {{"completion", completion},
+          {"filepos", p.filepos},
+          {"printTime", static_cast<long long>(p.elapsed)},
+          {"printTimeLeft", eta ? json(static_cast<long long>(*eta)) : json(nullptr)},
+          {"printTimeLeftOrigin", eta ? json("linear") : json(nullptr)}};
 }
 
 }  // namespace salient::server

@@ -102,6 +102,7 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                   std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count());
         }
         if (replaced) store.remove_unreferenced({*replaced});  // an upload under the same name replaces it
+        octo->files_changed(name);                             // the push socket's FileAdded
         if (select || print) {
           std::lock_guard lock(octo->mutex);
           octo->selected = name;
@@ -137,11 +138,12 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                return json_response(200, file_json_analysed(*f, r, store, printers, *octo));
              });
   router.add("DELETE", "/api/files/local/{name}", Access::key,
-             [&store](const HttpRequest&, const PathParams& p) {
+             [&store, octo](const HttpRequest&, const PathParams& p) {
                const auto f = PrintStore(store.db()).file(p.at("name"));
                if (!f || !PrintStore(store.db()).remove_file(p.at("name")))
                  throw ApiError(404, "not_found", "no file '" + p.at("name") + "'");
                store.remove_unreferenced({f->digest});
+               octo->files_changed();
                return HttpResponse::text(204, "");
              });
   router.add("GET", "/downloads/files/local/{name}", Access::key,
@@ -162,13 +164,8 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                          {"printTimeLeft", nullptr}};
         std::string name;
         if (s.print) {
-          const PrinterStatus::Running& p = *s.print;
-          const std::optional<double> eta = p.eta();
-          name = p.record.filename;
-          progress = {{"completion", p.fraction() * 100},
-                      {"filepos", p.record.confirmed},
-                      {"printTime", p.elapsed},
-                      {"printTimeLeft", eta ? json(*eta) : json(nullptr)}};
+          name = s.print->record.filename;
+          progress = progress_json(s);  // as the push socket's: filepos in bytes
         } else {
           std::lock_guard lock(octo->mutex);
           name = octo->selected;

@@ -8,13 +8,14 @@
 namespace salient::server {
 namespace {
 
-constexpr core::NameTable<PrinterState, 7> printer_names{{
+constexpr core::NameTable<PrinterState, 8> printer_names{{
     {PrinterState::disconnected, "disconnected"},
     {PrinterState::connecting, "connecting"},
     {PrinterState::operational, "operational"},
     {PrinterState::printing, "printing"},
     {PrinterState::paused, "paused"},
     {PrinterState::cancelling, "cancelling"},
+    {PrinterState::finishing, "finishing"},
     {PrinterState::error, "error"},
 }};
 

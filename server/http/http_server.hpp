@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstddef>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -32,8 +33,11 @@ struct HttpServerOptions {
   // Called after each response: method (one of the HTTP verbs, or "OTHER"), route name, status,
   // seconds (for logs and metrics).
   std::function<void(const std::string&, const std::string&, int, double)> on_response;
-  // Upgrade requests go here (none: they are served as plain HTTP requests).
-  WebSocketAcceptor websocket;
+  // Upgrade requests by path: exact ("/api/v1/events", "/sockjs/websocket"), or a prefix when
+  // the key ends with "/*" ("/sockjs/*": the acceptor checks the rest; an exact key wins, then
+  // the longest prefix). An upgrade to any other path is served as a plain HTTP request (the
+  // router's 404, or its 426 route).
+  std::map<std::string, WebSocketAcceptor> websockets;
 };
 
 class HttpServer {

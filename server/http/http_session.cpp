@@ -131,9 +131,10 @@ class Session : public std::enable_shared_from_this<Session> {
       return reply_error(400, "bad_request", "Transfer-Encoding must end with chunked");
     if (!split_target(request_.target, request_.path, request_.query))
       return respond(error_response(400, "bad_request", "malformed percent-encoding in the URL"), false);
-    // An upgrade is judged by the WebSocket acceptor (its own paths and key); anything else by the router.
-    const bool upgrade = websocket::is_upgrade(in) && shared_.options.websocket;
-    if (!upgrade)
+    // An upgrade to a WebSocket's path is judged by its acceptor (its own key); anything else by
+    // the router.
+    acceptor_ = websocket::is_upgrade(in) ? websocket_acceptor(request_.path) : nullptr;
+    if (!acceptor_)
       if (auto refused = shared_.router.refusal(request_, &route_))
         return respond(std::move(*refused), false);
     if (parser_->is_done()) return on_request();
@@ -171,15 +172,31 @@ class Session : public std::enable_shared_from_this<Session> {
   void on_request() {
     auto& in = parser_->get();
     request_.body = std::move(in.body());
-    if (websocket::is_upgrade(in) && shared_.options.websocket) {
-      route_ = "websocket";
-      WebSocketAccept accepted = shared_.options.websocket(request_);
+    if (acceptor_) {
+      route_ = "websocket " + acceptor_->first;
+      WebSocketAccept accepted = acceptor_->second(request_);
       if (accepted.channel) return upgrade(std::move(accepted.channel), accepted.subprotocol);
       return respond(std::move(accepted.refusal), false);
     }
     HttpResponse response = shared_.router.dispatch(request_, &route_);
     release_body();
     respond(std::move(response), in.keep_alive());
+  }
+
+  // The acceptor for an upgrade to `path`, with its key (see HttpServerOptions::websockets);
+  // null: none.
+  const WebSocketRoute* websocket_acceptor(const std::string& path) const {
+    const auto& all = shared_.options.websockets;
+    if (const auto it = all.find(path); it != all.end()) return &*it;
+    const WebSocketRoute* best = nullptr;
+    for (const WebSocketRoute& route : all) {
+      const std::string& key = route.first;
+      if (key.size() < 2 || key.compare(key.size() - 2, 2, "/*") != 0) continue;
+      const std::size_t n = key.size() - 1;  // the prefix, with its "/"
+      if (path.size() > n && path.compare(0, n, key, 0, n) == 0 && (!best || n > best->first.size() - 1))
+        best = &route;
+    }
+    return best;
   }
 
   // Hands the connection to a WebSocket session; this HTTP session ends here.
@@ -288,6 +305,7 @@ class Session : public std::enable_shared_from_this<Session> {
   Clock::time_point started_ = Clock::now();
   bool busy_ = false, keep_alive_ = false, closing_ = false, writing_ = false, reading_body_ = false;
   bool linger_started_ = false, upgraded_ = false;
+  const WebSocketRoute* acceptor_ = nullptr;  // the request is an upgrade to this one's path
   int response_status_ = 0;
   std::size_t reserved_ = 0, lingered_ = 0;
   Clock::time_point linger_until_{};

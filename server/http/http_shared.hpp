@@ -22,6 +22,8 @@ using Clock = std::chrono::steady_clock;
 
 constexpr std::size_t kHeaderLimit = 16 * 1024;
 
+using WebSocketRoute = std::pair<const std::string, WebSocketAcceptor>;  // HttpServerOptions::websockets
+
 class Session;
 class WsSession;
 

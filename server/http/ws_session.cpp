@@ -43,6 +43,12 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
   void stop() {
     asio::post(ws_.get_executor(), [self = shared_from_this()] {
+      // A client that does not answer the close (or keeps its end of the TCP connection open)
+      // must not hold the daemon's stop for the suggested 30 s.
+      websocket::stream_base::timeout t =
+          websocket::stream_base::timeout::suggested(beast::role_type::server);
+      t.handshake_timeout = std::chrono::seconds(2);
+      self->ws_.set_option(t);
       self->close(websocket::close_code::going_away, "server stopping");
     });
   }

@@ -83,6 +83,29 @@ PrinterCounters Printer::counters() const {
 
 PrinterStatus Printer::status() const {
   std::lock_guard lock(mutex_);
+  return status_locked();
+}
+
+std::vector<PrinterStatus> Printer::state_changes_since(std::uint64_t& seq) const {
+  std::lock_guard lock(mutex_);
+  const std::uint64_t oldest = changes_end_ + 1 - changes_.size();  // changes_end_ + 1 when none
+  std::vector<PrinterStatus> out;
+  for (std::uint64_t i = std::max(seq + 1, oldest); i <= changes_end_; ++i)
+    out.push_back(changes_[i - oldest]);
+  seq = changes_end_;
+  return out;
+}
+
+void Printer::enter(PrinterState state, const std::string& error) {
+  if (state_ == state && error_ == error) return;
+  state_ = state;
+  error_ = error;
+  changes_.push_back(status_locked());
+  ++changes_end_;
+  if (changes_.size() > kMaxStateChanges) changes_.pop_front();
+}
+
+PrinterStatus Printer::status_locked() const {
   PrinterStatus s;
   s.id = config_.id;
   s.kind = config_.kind;
@@ -98,9 +121,13 @@ PrinterStatus Printer::status() const {
     p.record.confirmed = current_->confirmed;
     p.record.total = current_->total;
     p.elapsed = std::chrono::duration<double>(Clock::now() - current_->started).count();
+    p.file_bytes = current_->file_bytes;
+    p.filepos = p.file_bytes;
     if (const auto& program = current_->program; program && !program->empty()) {
       const auto next =
           std::min<std::size_t>(static_cast<std::size_t>(current_->confirmed), program->size() - 1);
+      if (static_cast<std::size_t>(current_->confirmed) < program->size())
+        p.filepos = std::min(p.file_bytes, (*program)[next].offset);
       p.layers = program->layers();  // 1 when the file marks no layer: then none is told
       if (p.layers > 1)
         p.layer = (*program)[next].layer + 1;
@@ -151,8 +178,9 @@ long long Printer::start_print(const PrintRequest& request) {
   }
   // Reading and counting a large file happens outside the lock that status requests take.
   Current c;
-  std::shared_ptr<const protocol::Program> program =
-      printable_program(request.filename, store_.files().read(request.file_digest), &config_);
+  const std::string gcode = store_.files().read(request.file_digest);
+  std::shared_ptr<const protocol::Program> program = printable_program(request.filename, gcode, &config_);
+  c.file_bytes = gcode.size();
   c.total = static_cast<long long>(program->size());
   c.program = program;
   std::lock_guard lock(mutex_);
@@ -165,8 +193,7 @@ long long Printer::start_print(const PrintRequest& request) {
   queue_.push(PrintCommand{request, c.record.id, std::move(program)});
   cancel_requested_ = false;
   current_ = c;
-  state_ = PrinterState::printing;
-  error_.clear();
+  enter(PrinterState::printing);
   wake_.notify_all();
   return c.record.id;
 }
@@ -176,7 +203,7 @@ void Printer::pause() {
     std::lock_guard lock(mutex_);
     if (state_ != PrinterState::printing || !link_) conflict(is(state_) + ": nothing to pause");
     link_->pause();
-    state_ = PrinterState::paused;
+    enter(PrinterState::paused);
   }
   notify(false);
 }
@@ -186,7 +213,7 @@ void Printer::resume() {
     std::lock_guard lock(mutex_);
     if (state_ != PrinterState::paused || !link_) conflict(is(state_) + ": nothing to resume");
     link_->resume();
-    state_ = PrinterState::printing;
+    enter(PrinterState::printing);
   }
   notify(false);
 }
@@ -198,7 +225,7 @@ void Printer::cancel() {
       conflict(is(state_) + ": nothing to cancel");
     link_->cancel();
     cancel_requested_ = true;
-    state_ = PrinterState::cancelling;
+    enter(PrinterState::cancelling);
   }
   notify(false);
 }

@@ -5,9 +5,13 @@
 // (Conflict when they make no sense now) and queued for the thread (CommandQueue); pause, resume,
 // cancel and emergency stop reach a running print at once.
 //
-// States (PrinterState): disconnected → connecting → operational ⇄ printing ⇄ paused; printing or
-// paused → cancelling → operational; error after a failure (link lost, firmware halted,
-// emergency stop, a connect that failed) until the next connect.
+// States (PrinterState): disconnected → connecting → operational ⇄ printing ⇄ paused; printing →
+// finishing → operational (finishing: every command is confirmed, the print is being recorded);
+// printing or paused → cancelling → operational; error after a failure (link lost, firmware
+// halted, emergency stop, a connect that failed) until the next connect. Every change of state is
+// also kept, with the status as it was then, for state_changes_since(): a watcher that reads the
+// status after a hook may find a later state (a cancel ends within milliseconds), and OctoPrint's
+// clients must see each one, in order.
 //
 // Threading. The printer's own thread (run(), printer_thread.cpp) alone creates, drives and
 // destroys the link, and alone does blocking I/O: handshake, print, console commands, idle.
@@ -22,6 +26,8 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
+#include <deque>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -86,6 +92,11 @@ class Printer {
   PrinterState state() const;
   PrinterStatus status() const;  // the whole status: state, temperatures, current/last print
   PrinterCounters counters() const;
+  // The status at each change of state after `seq` (0: from the oldest kept), oldest first; `seq`
+  // is moved past them. Only the last kMaxStateChanges are kept: a watcher that falls further
+  // behind misses the oldest.
+  static constexpr std::size_t kMaxStateChanges = 64;
+  std::vector<PrinterStatus> state_changes_since(std::uint64_t& seq) const;
 
  private:
   struct Throttle {
@@ -107,6 +118,9 @@ class Printer {
   void run_print(const PrintCommand& print, const EventFn& on_event);
   PrintState print_outcome(const protocol::PrintResult& result, bool interrupted, bool cancelled) const;
   void set_state(PrinterState state, const std::string& error = {});
+  // Under mutex_: the state (and its error) changes, and the change is kept.
+  void enter(PrinterState state, const std::string& error = {});
+  PrinterStatus status_locked() const;
 
   PrinterConfig config_;
   Store& store_;
@@ -132,11 +146,14 @@ class Printer {
     PrintRecord record;
     std::chrono::steady_clock::time_point started;
     long long confirmed = 0, total = 0;
-    std::shared_ptr<const protocol::Program> program;  // for the layer under way
+    std::size_t file_bytes = 0;                        // the file's size
+    std::shared_ptr<const protocol::Program> program;  // for the layer and byte under way
   };
   std::optional<Current> current_;
   std::optional<PrintRecord> last_;
   PrinterCounters counters_;
+  std::deque<PrinterStatus> changes_;  // the last kMaxStateChanges changes of state
+  std::uint64_t changes_end_ = 0;      // sequence number of the newest (changes_.back())
 };
 
 }  // namespace salient::server

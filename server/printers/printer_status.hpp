@@ -30,6 +30,9 @@ struct PrinterStatus {
     // The layer under way (1-based) of the file's layers, by its ";LAYER_CHANGE"/";LAYER:"
     // comments; 0 when the file marks none.
     std::size_t layer = 0, layers = 0;
+    // Bytes of the file done (where the first unconfirmed command's line starts; the whole file
+    // once all are confirmed) and the file's size: OctoPrint's progress.filepos counts bytes.
+    std::size_t filepos = 0, file_bytes = 0;
     double fraction() const {
       return record.total > 0 ? double(record.confirmed) / double(record.total) : 0.0;
     }

@@ -34,8 +34,7 @@ Overloaded(F...) -> Overloaded<F...>;
 void Printer::set_state(PrinterState state, const std::string& error) {
   {
     std::lock_guard lock(mutex_);
-    state_ = state;
-    error_ = error;
+    enter(state, error);
   }
   notify(false);
 }
@@ -123,8 +122,7 @@ void Printer::open_link() {
       link_ = std::move(c.link);
       firmware_ = firmware.name;
       device_ = c.device;
-      state_ = PrinterState::operational;
-      error_.clear();
+      enter(PrinterState::operational);
     }
     notify(false);
   } catch (const std::exception& e) {
@@ -146,10 +144,9 @@ void Printer::close_link(PrinterState state, const std::string& error) {
     // Requests were for this connection: none of them is carried over to the next one.
     queue_.clear();
     const bool had = link != nullptr || state_ != state;
-    state_ = state;
-    error_ = error;
     device_.clear();
     hotend_ = bed_ = Temperature{};
+    enter(state, error);
     if (!had) return;
   }
   link.reset();
@@ -159,7 +156,7 @@ void Printer::close_link(PrinterState state, const std::string& error) {
 
 void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
   using Kind = LinkEvent::Kind;
-  bool tell = false, save = false;
+  bool tell = false, save = false, finishing = false;
   long long print_id = 0, confirmed = 0;
   PrintState state = PrintState::printing;
   {
@@ -173,6 +170,11 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
     } else if (e.kind == Kind::progress && current_) {
       current_->confirmed = static_cast<long long>(e.done);
       tell = true;
+      // The last command is confirmed: the file is done, what is left is recording the print.
+      if (state_ == PrinterState::printing && current_->confirmed >= current_->total) {
+        enter(PrinterState::finishing);
+        finishing = true;
+      }
       // Saved at most every 20 ms: a kill -9 repeats at most that much of the print on resume.
       if (Clock::now() - throttle.last_save >= std::chrono::milliseconds(20)) {
         save = true, throttle.last_save = Clock::now();
@@ -181,8 +183,9 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
       }
     }
   }
+  if (finishing) notify(false);  // a change of state: never throttled
   // Told at most 10 times a second, saved at most 50 times: a print acknowledges thousands of lines a second.
-  if (tell && Clock::now() - throttle.last_notify >= std::chrono::milliseconds(100)) {
+  if (tell && !finishing && Clock::now() - throttle.last_notify >= std::chrono::milliseconds(100)) {
     throttle.last_notify = Clock::now();
     notify(true);
   }
@@ -230,6 +233,16 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
   } catch (const std::exception& e) {
     result.reason = e.what();
   }
+  // A print that ended well is finishing until it is recorded (when the link did not confirm
+  // its last command through a progress event, it enters the phase here).
+  if (state == PrintState::finished) {
+    bool entered = false;
+    {
+      std::lock_guard lock(mutex_);
+      if (state_ == PrinterState::printing) enter(PrinterState::finishing), entered = true;
+    }
+    if (entered) notify(false);
+  }
   const std::optional<std::string> reason =
       result.reason.empty() ? std::nullopt : std::optional<std::string>(result.reason);
   PrintStore prints(store_.db());
@@ -253,7 +266,7 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
     counters_.lines_resent += static_cast<long long>(result.lines_resent);
     if (state == PrintState::finished) ++counters_.prints_finished;
     if (state == PrintState::failed || state == PrintState::interrupted) ++counters_.prints_failed;
-    state_ = PrinterState::operational;
+    enter(PrinterState::operational);
   }
   if (result.disconnected)
     return close_link(PrinterState::error, "link lost during the print: " + result.reason);

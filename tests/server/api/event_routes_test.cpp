@@ -45,7 +45,7 @@ struct Daemon {
     add_event_route(router);
     HttpServerOptions options;
     options.port = 0;
-    options.websocket = events_endpoint(hub, *keys);
+    options.websockets["/api/v1/events"] = events_endpoint(hub, *keys);
     options.log = [this](const std::string& line) {
       std::lock_guard lock(log_mutex);
       log += line + "\n";

@@ -26,6 +26,22 @@ using nlohmann::json;
 
 namespace {
 
+// Says who accepted it, once.
+struct Named : WebSocketChannel {
+  explicit Named(std::string n) : name(std::move(n)) {}
+  std::string name;
+  bool said = false;
+  void open(std::function<void()> wake) override { wake(); }
+  void receive(const std::string&) override {}
+  std::optional<std::string> next() override {
+    if (said) return std::nullopt;
+    said = true;
+    return json{{"by", name}}.dump();
+  }
+  std::string close_reason() override { return {}; }
+  void closed() override {}
+};
+
 struct Running {
   Router router;
   EventHub hub;
@@ -35,10 +51,18 @@ struct Running {
   Running() {
     HttpServerOptions options;
     options.port = 0;
-    options.websocket = [this](const HttpRequest& r) -> WebSocketAccept {
-      if (r.path != "/events") return {nullptr, error_response(404, "not_found", "no WebSocket here")};
+    options.websockets["/events"] = [this](const HttpRequest& r) -> WebSocketAccept {
       if (r.header("x-api-key") != "k") return {nullptr, error_response(401, "unauthorized", "key")};
       return {hub.subscribe(), {}};
+    };
+    options.websockets["/pre/*"] = [](const HttpRequest& r) -> WebSocketAccept {
+      return {std::make_shared<Named>("prefix " + r.path), {}};
+    };
+    options.websockets["/pre/deeper/*"] = [](const HttpRequest& r) -> WebSocketAccept {
+      return {std::make_shared<Named>("deeper " + r.path), {}};
+    };
+    options.websockets["/pre/exact"] = [](const HttpRequest&) -> WebSocketAccept {
+      return {std::make_shared<Named>("exact"), {}};
     };
     server = std::make_unique<HttpServer>(options, router);
     port = server->start();
@@ -99,6 +123,22 @@ TEST_CASE("an upgrade without the key is refused with the HTTP status, a wrong p
   CHECK(upgrade_status(s.port, "/events", "k").rfind("HTTP/1.1 101", 0) == 0);
   Client c;
   CHECK(c.connect(s.port, "/events", "wrong"));  // Beast's client sees the refusal too
+}
+
+TEST_CASE("upgrades dispatch by path: exact first, then the longest prefix, others are plain HTTP") {
+  Running s;
+  const auto by = [&](const std::string& path) {
+    Client c;
+    REQUIRE(!c.connect(s.port, path, "k"));
+    return c.read()["by"].get<std::string>();
+  };
+  CHECK(by("/pre/exact") == "exact");
+  CHECK(by("/pre/a/b") == "prefix /pre/a/b");
+  CHECK(by("/pre/deeper/x") == "deeper /pre/deeper/x");
+  CHECK(by("/pre/exactly") == "prefix /pre/exactly");
+  CHECK(upgrade_status(s.port, "/pre", "k").rfind("HTTP/1.1 404", 0) ==
+        0);  // the prefix alone is not under it
+  CHECK(upgrade_status(s.port, "/pre/", "k").rfind("HTTP/1.1 404", 0) == 0);  // nor is nothing after it
 }
 
 TEST_CASE("subscribe by message, receive events in order, and a graceful stop closes with going away") {

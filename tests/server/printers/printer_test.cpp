@@ -162,6 +162,67 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   CHECK(std::find(log.end() - 8, log.end(), "M104 S0") != log.end());  // heaters off after the cancel
 }
 
+std::vector<PrinterState> states_of(const std::vector<PrinterStatus>& changes) {
+  std::vector<PrinterState> out;
+  for (const PrinterStatus& s : changes) out.push_back(s.state);
+  return out;
+}
+
+TEST_CASE("every change of state is kept in order, with the status then: printing, finishing, operational") {
+  Fixture f("printer-changes");
+  Printer p(f.sim("--advanced-ok --time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  std::uint64_t seen = 0;
+  CHECK(states_of(p.state_changes_since(seen)) ==
+        std::vector<PrinterState>{PrinterState::connecting, PrinterState::operational});
+  CHECK(p.state_changes_since(seen).empty());  // read up to here
+  const std::string gcode = make_gcode(3000);
+  p.print(f.file(gcode));
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }, 60s));
+  const std::vector<PrinterStatus> changes = p.state_changes_since(seen);
+  // However short the finishing phase, a watcher that reads only now still sees it, in order.
+  CHECK(states_of(changes) == std::vector<PrinterState>{PrinterState::printing, PrinterState::finishing,
+                                                        PrinterState::operational});
+  REQUIRE(changes.size() == 3);
+  REQUIRE(changes[1].print);  // finishing: the print is still under way, every byte of it done
+  CHECK(changes[1].print->file_bytes == gcode.size());
+  CHECK(changes[1].print->filepos == gcode.size());
+  CHECK(changes[1].print->record.confirmed == changes[1].print->record.total);
+  CHECK(!changes[2].print);
+  REQUIRE(changes[2].last_print);
+  CHECK(changes[2].last_print->state == PrintState::finished);
+  CHECK(busy_printing(PrinterState::finishing));
+  p.stop();
+}
+
+TEST_CASE("a cancel is kept as cancelling then operational, and progress counts the file's bytes") {
+  Fixture f("printer-cancel-changes");
+  Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  std::uint64_t seen = 0;
+  p.state_changes_since(seen);
+  const std::string gcode = make_gcode(5000);
+  p.print(f.file(gcode));
+  REQUIRE(eventually([&] { return p.status().print && p.status().print->record.confirmed > 50; }));
+  const PrinterStatus mid = p.status();
+  const auto program = salient::protocol::Program::parse(gcode);
+  const auto next = static_cast<std::size_t>(mid.print->record.confirmed);
+  CHECK(mid.print->filepos == program[next].offset);  // bytes of the file, not commands or lines
+  CHECK(mid.print->filepos > next);
+  CHECK(gcode[mid.print->filepos - 1] == '\n');
+  p.cancel();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  const std::vector<PrinterStatus> changes = p.state_changes_since(seen);
+  CHECK(states_of(changes) == std::vector<PrinterState>{PrinterState::printing, PrinterState::cancelling,
+                                                        PrinterState::operational});
+  REQUIRE(changes.size() == 3);
+  REQUIRE(changes[2].last_print);
+  CHECK(changes[2].last_print->state == PrintState::cancelled);
+  p.stop();
+}
+
 TEST_CASE("a stop mid-print leaves it interrupted and resumable, and the resume prints exactly the rest") {
   Fixture f("printer-resume");
   const std::string gcode = make_gcode(8000);
