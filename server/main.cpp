@@ -146,7 +146,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_printer_routes(router, printers, store, config);
   OctoState octo;
   Sessions sessions;
-  add_octoprint_routes(router, store, printers, config, octo, sessions);
+  add_octoprint_routes(router, store, printers, config, octo, sessions, hub);
   add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());
   add_event_route(router);
   add_web_routes(router, config);

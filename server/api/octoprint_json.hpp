@@ -9,6 +9,7 @@
 
 #include "server/http/http_message.hpp"
 #include "server/printers/printer_service.hpp"
+#include "server/printers/temperature_history.hpp"
 #include "server/store/store.hpp"
 
 namespace salient::server {
@@ -20,6 +21,9 @@ struct OctoState {
   std::mutex mutex;
   std::string selected;
   std::map<std::string, nlohmann::json> analyses;
+  // Temperature offsets set through /api/printer/tool|bed ("tool0", "bed"), °C, reported with
+  // the temperatures and added to the targets set through the API.
+  std::map<std::string, double> offsets;
 };
 
 bool is_gcode(const std::string& name);
@@ -37,5 +41,12 @@ std::string state_text(const PrinterStatus& s);
 nlohmann::json state_json(const PrinterStatus& s);
 // {tool0{actual, target, offset}, bed{…}}
 nlohmann::json temperature_json(const PrinterStatus& s);
+// The same with the offsets set through the API.
+nlohmann::json temperature_json(const PrinterStatus& s, const std::map<std::string, double>& offsets);
+// OctoPrint's temperature history: the last `limit` samples, oldest first, as
+// [{time (s), tool0{actual, target}, bed{actual, target}}].
+nlohmann::json temperature_history_json(const std::vector<TemperatureSample>& samples, std::size_t limit);
+// A folder as OctoPrint lists it: {name, display, path, type: "folder", typePath, origin, refs}.
+nlohmann::json folder_json(const std::string& path, const HttpRequest& r);
 
 }  // namespace salient::server

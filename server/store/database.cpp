@@ -75,6 +75,19 @@ CREATE TABLE print_queue (
 );
 CREATE INDEX print_queue_by_printer ON print_queue (printer_id, position);
 )sql",
+    // 4: folders of uploaded files (files.name is a path "a/b/c.gcode" inside them), and the
+    // settings OctoPrint clients write (POST /api/settings), by key.
+    R"sql(
+CREATE TABLE folders (
+  path TEXT PRIMARY KEY,
+  created_at REAL NOT NULL
+);
+CREATE TABLE settings (
+  key TEXT PRIMARY KEY,
+  value TEXT NOT NULL,
+  updated_at REAL NOT NULL
+);
+)sql",
 };
 
 }  // namespace
