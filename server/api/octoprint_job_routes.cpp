@@ -173,8 +173,7 @@ HttpResponse connection_command(const OctoContext& ctx, const HttpRequest& r) {
             options["baudrates"].end())
       throw ApiError(400, "bad_request", "invalid baudrate: " + baud->dump().substr(0, 40));
     if (const auto profile = body.find("printerProfile");
-        profile != body.end() &&
-        (!profile->is_string() || !ctx.printers.all().empty() && profile->get<std::string>() != printer.id()))
+        profile != body.end() && (!profile->is_string() || profile->get<std::string>() != printer.id()))
       throw ApiError(400, "bad_request", "invalid printer profile: " + profile->dump().substr(0, 80));
     const PrinterState s = printer.state();
     if (s == PrinterState::disconnected || s == PrinterState::error)
