@@ -21,7 +21,8 @@ int path_status(const std::string& raw, bool root_ok = false) {
 }
 }  // namespace
 
-TEST_CASE("paths: relative and sanitized, with '..', absolute, empty segments, control bytes, bounds refused") {
+TEST_CASE(
+    "paths: relative and sanitized, with '..', absolute, empty segments, control bytes, bounds refused") {
   CHECK(checked_path("a/b/c.gcode", "path", false) == "a/b/c.gcode");
   CHECK(checked_path("my folder/x y.gcode", "path", false) == "my_folder/x_y.gcode");
   CHECK(checked_path("parts/", "path", false) == "parts");
