@@ -117,11 +117,15 @@ std::vector<std::string> jog_gcode(const json& body, const core::PrinterProfile&
           fmt(lo[i] + size[i]) + " mm)");
     if (!absolute && std::abs(d) > size[i])
       bad("'" + axis + "' = " + fmt(d) + " mm is a longer move than the printer's " + fmt(size[i]) + " mm");
-    move += " " + std::string(1, "XYZ"[i]) + fmt(d);
     any = true;
+    if (!absolute && d == 0) continue;  // FDM Monster sends all three axes, 0 for those that stay
+    move += ' ';
+    move += "XYZ"[i];
+    move += fmt(d);
     z_only = z_only && i == 2;
   }
   if (!any) bad("a jog needs at least one of 'x', 'y', 'z' (mm)");
+  if (move == "G1") return {};         // nothing moves
   double speed = z_only ? 200 : 6000;  // mm/min: OctoPrint's default movement speeds
   if (const auto s = body.find("speed"); s != body.end() && !s->is_null() && !s->is_boolean()) {
     speed = number(*s, "'speed'");

@@ -34,7 +34,8 @@ std::vector<std::string> extrude_gcode(const nlohmann::json& body);
 std::string flowrate_gcode(const nlohmann::json& factor);
 std::string feedrate_gcode(const nlohmann::json& factor);
 // {"x", "y", "z", "absolute", "speed"}: relative moves within the bed's size, absolute ones
-// within its volume (origin at a corner or the centre, as the profile says).
+// within its volume (origin at a corner or the centre, as the profile says). Relative axes of
+// 0 are left out; none to send: empty.
 std::vector<std::string> jog_gcode(const nlohmann::json& body, const core::PrinterProfile& profile);
 // {"axes": ["x", "y", "z"]} → G28 X0 Y0 Z0.
 std::vector<std::string> home_gcode(const nlohmann::json& body);

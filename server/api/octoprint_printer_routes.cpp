@@ -159,14 +159,15 @@ HttpResponse printhead_command(const OctoContext& ctx, const HttpRequest& r) {
   const PrinterStatus s = printer.status();
   if (!connected(s.state) || (busy_printing(s.state) && command != "feedrate"))
     throw ApiError(409, "not_operational", "Printer is not operational or currently printing");
-  if (command == "jog")
-    printer.command(jog_gcode(body, profile_of(printer)));
-  else if (command == "home")
+  if (command == "jog") {
+    if (const auto gcode = jog_gcode(body, profile_of(printer)); !gcode.empty()) printer.command(gcode);
+  } else if (command == "home") {
     printer.command(home_gcode(body));
-  else if (command == "feedrate")
+  } else if (command == "feedrate") {
     printer.command({feedrate_gcode(required(body, "factor", command))});
-  else
+  } else {
     throw ApiError(400, "bad_request", "'command' must be jog, home or feedrate");
+  }
   return HttpResponse::text(204, "");
 }
 

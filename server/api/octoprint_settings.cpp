@@ -10,7 +10,8 @@ using nlohmann::json;
 namespace {
 
 // sdSupport and the like describe the daemon, not a preference: they are not writable.
-constexpr std::array<std::string_view, 3> kWritable = {"appearance", "webcam", "temperature"};
+constexpr std::array<std::string_view, 4> kWritable = {"appearance", "webcam", "temperature",
+                                                       "gcodeAnalysis"};
 constexpr std::size_t kMaxString = 256, kMaxItems = 32;
 
 bool same_kind(const json& a, const json& b) {

@@ -1,6 +1,6 @@
 // What of OctoPrint's settings a client may write (POST /api/settings): the keys FDM Monster,
-// OctoPod and the web clients change (appearance, webcam, temperature presets), each only with
-// the type its default has. Pure; the routes keep the result in the store. Included from .cpp.
+// OctoPod and the web clients change (appearance, webcam, temperature presets, gcodeAnalysis.runAt), each
+// only with the type its default has. Pure; the routes keep the result in the store. Included from .cpp.
 #pragma once
 
 #include <nlohmann/json.hpp>

@@ -43,6 +43,10 @@ TEST_CASE("jog: relative within the bed's size, absolute within its volume, orig
   salient::core::PrinterProfile p;  // 220 × 220 × 250, origin at a corner
   CHECK(jog_gcode(json{{"x", 10}, {"z", -0.5}}, p) == Lines{"G91", "G1 X10 Z-0.5 F6000", "G90"});
   CHECK(jog_gcode(json{{"z", 2}}, p) == Lines{"G91", "G1 Z2 F200", "G90"});
+  // FDM Monster's jog: every axis, 0 for those that stay.
+  CHECK(jog_gcode(json{{"x", 0}, {"y", 0}, {"z", 5}}, p) == Lines{"G91", "G1 Z5 F200", "G90"});
+  CHECK(jog_gcode(json{{"x", 0}, {"y", 0}, {"z", 0}}, p).empty());
+  CHECK(jog_gcode(json{{"x", 0}, {"absolute", true}}, p) == Lines{"G90", "G1 X0 F6000"});
   CHECK(jog_gcode(json{{"x", 220}, {"y", 0}, {"absolute", true}, {"speed", 1500}}, p) ==
         Lines{"G90", "G1 X220 Y0 F1500"});
   for (const json& bad : {json{{"x", 1e9}}, json{{"x", -221}}, json{{"x", -1}, {"absolute", true}},
@@ -73,15 +77,20 @@ TEST_CASE("settings writes: known writable keys of the right type kept, the rest
   const json defaults = {{"appearance", {{"name", "salient"}, {"color", "default"}}},
                          {"feature", {{"sdSupport", false}}},
                          {"webcam", {{"streamUrl", ""}, {"flipH", false}}},
-                         {"temperature", {{"profiles", json::array()}}}};
+                         {"temperature", {{"profiles", json::array()}}},
+                         {"gcodeAnalysis", {{"runAt", "idle"}}},
+                         {"plugins", json::object()}};
   const json body = {{"appearance", {{"name", "Farm 1"}, {"color", 5}, {"unknown", 1}}},
                      {"feature", {{"sdSupport", true}}},
                      {"webcam", {{"streamUrl", std::string(300, 'u')}, {"flipH", true}}},
                      {"temperature", {{"profiles", {{{"name", "PETG"}, {"extruder", 235}}}}}},
+                     {"gcodeAnalysis", {{"runAt", "never"}}},
+                     {"plugins", {{"firmwareupdater", {{"flash", true}}}}},
                      {"bogus", {{"x", 1}}}};
   const json kept = accepted_settings(defaults, body);
   CHECK(kept == json{{"appearance", {{"name", "Farm 1"}}},
                      {"webcam", {{"flipH", true}}},
-                     {"temperature", {{"profiles", {{{"name", "PETG"}, {"extruder", 235}}}}}}});
+                     {"temperature", {{"profiles", {{{"name", "PETG"}, {"extruder", 235}}}}}},
+                     {"gcodeAnalysis", {{"runAt", "never"}}}});
   CHECK(accepted_settings(defaults, json{{"appearance", "x"}}).empty());
 }

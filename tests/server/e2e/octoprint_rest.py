@@ -123,6 +123,8 @@ def phase_controls():
     only_state = js("GET", "/api/printer?exclude=temperature,sd", 200)
     assert set(only_state) == {"state"}, only_state
     assert "history" not in js("GET", "/api/printer", 200)["temperature"]
+    # FDM Monster's poll sends "limit=limit": not a number, so OctoPrint's default (300).
+    assert len(js("GET", "/api/printer?history=true&limit=limit", 200)["temperature"]["history"]) >= len(history)
     tool = js("GET", "/api/printer/tool?history=true&limit=2", 200)
     assert "tool0" in tool and "bed" not in tool and "bed" not in tool["history"][-1], tool
     bed = js("GET", "/api/printer/bed", 200)
@@ -161,6 +163,7 @@ def phase_controls():
                        ("/api/printer/bed", {"command": "target", "target": 55.5}),
                        ("/api/printer/printhead", {"command": "home", "axes": ["x", "y"]}),
                        ("/api/printer/printhead", {"command": "jog", "x": 10, "y": -2.5}),
+                       ("/api/printer/printhead", {"command": "jog", "x": 0, "y": 0, "z": 5}),  # FDM Monster's
                        ("/api/printer/printhead", {"command": "jog", "x": 100, "y": 100, "absolute": True,
                                                    "speed": 3000}),
                        ("/api/printer/printhead", {"command": "feedrate", "factor": 1.5}),
@@ -168,7 +171,7 @@ def phase_controls():
                        ("/api/printer/tool", {"command": "extrude", "amount": 5})]:
         js("POST", path, 204, body)
         time.sleep(0.3)  # the console runs one batch at a time: the order of the log is the order sent
-    want = ["M104 S200", "M104 S195", "M140 S55.5", "G28 X0 Y0", "G91", "G1 X10 Y-2.5 F6000", "G90", "G90",
+    want = ["M104 S200", "M104 S195", "M140 S55.5", "G28 X0 Y0", "G91", "G1 X10 Y-2.5 F6000", "G90", "G91", "G1 Z5 F200", "G90", "G90",
             "G1 X100 Y100 F3000", "M220 S150", "M221 S90", "G91", "M83", "G1 E5 F300", "M82", "G90"]
     eventually(lambda: sim_log_has(log, want), 60, "the controls' G-code in the simulator's log")
     assert js("GET", "/api/printer/tool", 200)["tool0"]["offset"] == 5
@@ -276,10 +279,12 @@ def phase_events():
 def phase_settings():
     s = js("POST", "/api/settings", 200, {"appearance": {"name": "Farm 7", "color": 3}, "bogus": {"x": 1},
                                          "webcam": {"streamUrl": "http://cam/stream"},
-                                         "feature": {"sdSupport": True}})
+                                         "feature": {"sdSupport": True}, "gcodeAnalysis": {"runAt": "never"},
+                                         "plugins": {"firmwareupdater": {"x": 1}}})
     assert s["appearance"]["name"] == "Farm 7" and s["appearance"]["color"] == "default", s["appearance"]
     assert s["webcam"]["streamUrl"] == "http://cam/stream" and "bogus" not in s, s
-    assert s["feature"]["sdSupport"] is False, s["feature"]
+    assert s["feature"]["sdSupport"] is False and s["gcodeAnalysis"]["runAt"] == "never", s
+    assert s["plugins"] == {}, s["plugins"]
     error_status("POST", "/api/settings", 400, [1], words="object")
     error_status("POST", "/api/settings", 400, b"{nope", words="JSON")
 
