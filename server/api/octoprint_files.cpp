@@ -66,7 +66,8 @@ std::string checked_path(std::string_view raw, std::string_view field, bool root
     }
     if (++depth > kMaxPathDepth)
       bad_path(field, raw, "deeper than " + std::to_string(kMaxPathDepth) + " folders");
-    out += (out.empty() ? "" : "/") + sanitize_filename(std::string(segment));
+    if (!out.empty()) out += '/';
+    out += sanitize_filename(std::string(segment));
     if (slash == std::string_view::npos) break;
     p.remove_prefix(slash + 1);
   }

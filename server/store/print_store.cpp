@@ -178,11 +178,13 @@ std::vector<StoredFile> PrintStore::remove_folder(const std::string& path) {
   return removed;
 }
 
+// A queued print of a moved file follows it (the queue names files by path).
 void PrintStore::move_file(const std::string& from, const std::string& to) {
-  db_.prepare("UPDATE files SET name = ? WHERE name = ?")
-      .bind(1, std::string_view(to))
-      .bind(2, std::string_view(from))
-      .run();
+  Database::Transaction t(db_);
+  for (const char* sql : {"UPDATE files SET name = ?1 WHERE name = ?2",
+                          "UPDATE print_queue SET ref = ?1 WHERE kind = 'file' AND ref = ?2"})
+    db_.prepare(sql).bind(1, std::string_view(to)).bind(2, std::string_view(from)).run();
+  t.commit();
 }
 
 void PrintStore::move_folder(const std::string& from, const std::string& to) {
@@ -196,6 +198,12 @@ void PrintStore::move_folder(const std::string& from, const std::string& to) {
   db_.prepare(
          "UPDATE folders SET path = ?2 || substr(path, length(?1) + 1) "
          "WHERE path = ?1 OR substr(path, 1, length(?1) + 1) = ?1 || '/'")
+      .bind(1, std::string_view(from))
+      .bind(2, std::string_view(to))
+      .run();
+  db_.prepare(
+         "UPDATE print_queue SET ref = ?2 || substr(ref, length(?1) + 1) "
+         "WHERE kind = 'file' AND substr(ref, 1, length(?1) + 1) = ?1 || '/'")
       .bind(1, std::string_view(from))
       .bind(2, std::string_view(to))
       .run();

@@ -60,6 +60,7 @@ class PrintStore {
   std::vector<StoredFile> remove_folder(const std::string& path);
   // Renames a file, or a folder with everything under it; copies likewise (a copy shares the
   // content, which is addressed by digest). The destination must not exist (the caller checks).
+  // Queued prints of moved files follow them.
   void move_file(const std::string& from, const std::string& to);
   void move_folder(const std::string& from, const std::string& to);
   void copy_file(const std::string& from, const std::string& to, double now);

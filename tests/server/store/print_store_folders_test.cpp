@@ -5,6 +5,7 @@
 #include <algorithm>
 
 #include "server/store/print_store.hpp"
+#include "server/store/queue_store.hpp"
 #include "server/store/settings_store.hpp"
 #include "server/store/store.hpp"
 #include "tests/support/scratch_dir.hpp"
@@ -51,6 +52,25 @@ TEST_CASE("folders: ancestors made, move and copy take the subtree only, remove 
   CHECK_FALSE(files.folder_exists("copy/b/c"));
   CHECK(names(files) == std::vector<std::string>{"a%/three.gcode", "a_x.gcode", "y.gcode",
                                                  "z/a/b/c/one.gcode", "z/a/two.gcode"});
+}
+
+TEST_CASE("folders: queued prints follow their files when they move") {
+  salient::test::ScratchDir dir("print-store-queue-move");
+  Store store(dir.path);
+  PrintStore files(store.db());
+  QueueStore queue(store.db());
+  files.put_file("f/a.gcode", "d", 1, 1);
+  files.put_file("b.gcode", "d", 1, 1);
+  queue.add("sim", "file", "f/a.gcode", 1);
+  queue.add("sim", "file", "b.gcode", 2);
+  queue.add("sim", "job", "b.gcode", 3);  // a job id that happens to look like the file: untouched
+  files.move_folder("f", "g/f");
+  files.move_file("b.gcode", "g/b.gcode");
+  const auto entries = queue.list("sim");
+  REQUIRE(entries.size() == 3);
+  CHECK(entries[0].ref == "g/f/a.gcode");
+  CHECK(entries[1].ref == "g/b.gcode");
+  CHECK(entries[2].ref == "b.gcode");
 }
 
 TEST_CASE("settings: put replaces, get reads back after reopening") {
