@@ -75,8 +75,10 @@ std::string base_url(const HttpRequest& r) {
 
 json file_json(const StoredFile& f, const HttpRequest& r) {
   const std::string base = base_url(r);
-  return {{"name", f.name},
-          {"display", f.name},
+  const std::string leaf =
+      f.name.substr(f.name.find_last_of('/') == std::string::npos ? 0 : f.name.find_last_of('/') + 1);
+  return {{"name", leaf},
+          {"display", leaf},
           {"path", f.name},
           {"type", "machinecode"},
           {"typePath", {"machinecode", "gcode"}},
@@ -172,12 +174,43 @@ json state_json(const PrinterStatus& s) {
 }
 
 json temperature_json(const PrinterStatus& s) {
-  const auto one = [](const Temperature& t) {
+  return temperature_json(s, {});
+}
+
+json temperature_json(const PrinterStatus& s, const std::map<std::string, double>& offsets) {
+  const auto one = [&offsets](const Temperature& t, const std::string& name) {
+    const auto offset = offsets.find(name);
     return json{{"actual", t.actual ? json(*t.actual) : json(nullptr)},
                 {"target", t.target ? json(*t.target) : json(nullptr)},
-                {"offset", 0}};
+                {"offset", offset == offsets.end() ? 0.0 : offset->second}};
   };
-  return {{"tool0", one(s.hotend)}, {"bed", one(s.bed)}};
+  return {{"tool0", one(s.hotend, "tool0")}, {"bed", one(s.bed, "bed")}};
+}
+
+json temperature_history_json(const std::vector<TemperatureSample>& samples, std::size_t limit) {
+  const auto one = [](const Temperature& t) {
+    return json{{"actual", t.actual ? json(*t.actual) : json(nullptr)},
+                {"target", t.target ? json(*t.target) : json(nullptr)}};
+  };
+  json out = json::array();
+  const std::size_t from = samples.size() > limit ? samples.size() - limit : 0;
+  for (std::size_t i = from; i < samples.size(); ++i)
+    out.push_back({{"time", static_cast<long long>(samples[i].time)},
+                   {"tool0", one(samples[i].hotend)},
+                   {"bed", one(samples[i].bed)}});
+  return out;
+}
+
+json folder_json(const std::string& path, const HttpRequest& r) {
+  const std::string leaf =
+      path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
+  return {{"name", leaf},
+          {"display", leaf},
+          {"path", path},
+          {"type", "folder"},
+          {"typePath", {"folder"}},
+          {"origin", "local"},
+          {"refs", {{"resource", base_url(r) + "/api/files/local/" + path}}}};
 }
 
 json temperature_sample_json(const TemperatureSample& sample) {

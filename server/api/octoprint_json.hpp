@@ -29,6 +29,9 @@ struct OctoState {
   void files_changed(const std::string& added = {}) const {
     if (on_files_changed) on_files_changed(added);
   }
+  // Temperature offsets set through /api/printer/tool|bed ("tool0", "bed"), °C, reported with
+  // the temperatures and added to the targets set through the API.
+  std::map<std::string, double> offsets;
 };
 
 bool is_gcode(const std::string& name);
@@ -61,5 +64,12 @@ nlohmann::json print_job_json(const PrinterStatus& s, const std::string& selecte
 // The progress document: completion (0–100), filepos (bytes of the file), printTime,
 // printTimeLeft (s), printTimeLeftOrigin; all null between prints.
 nlohmann::json progress_json(const PrinterStatus& s);
+// The same with the offsets set through the API.
+nlohmann::json temperature_json(const PrinterStatus& s, const std::map<std::string, double>& offsets);
+// OctoPrint's temperature history: the last `limit` samples, oldest first, as
+// [{time (s), tool0{actual, target}, bed{actual, target}}].
+nlohmann::json temperature_history_json(const std::vector<TemperatureSample>& samples, std::size_t limit);
+// A folder as OctoPrint lists it: {name, display, path, type: "folder", typePath, origin, refs}.
+nlohmann::json folder_json(const std::string& path, const HttpRequest& r);
 
 }  // namespace salient::server

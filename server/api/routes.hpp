@@ -28,9 +28,9 @@ struct OctoState;
 class Sessions;
 // OctoPrint's API as its clients use it: /api/files/local, /api/job, /api/printer, /api/settings,
 // /api/login… `octo` (the selected file, analyses) is shared with the push socket; `sessions`
-// are what passive logins hand out.
+// are what passive logins hand out; changes to files are published on `hub` ("files").
 void add_octoprint_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config,
-                          OctoState& octo, Sessions& sessions);
+                          OctoState& octo, Sessions& sessions, EventHub& hub);
 class AppKeyRequests;
 // /api/login (passive), /api/currentuser, /api/v1/keys… (list, create, revoke, app requests and
 // their decisions) and OctoPrint's /plugin/appkeys/… (probe, request, poll, decision).

@@ -12,14 +12,15 @@ void add_system_routes(Router& router) {
   });
   // OctoPrint's version call: slicers check "api", and that "text" starts with "OctoPrint".
   router.add("GET", "/api/version", Access::open, [](const HttpRequest&, const PathParams&) {
-    const std::string v(version());
-    return HttpResponse::text(200,
-                              json_text(nlohmann::json{{"api", "0.1"},
-                                                       {"server", "1.9.0"},
-                                                       {"text", "OctoPrint 1.9.0 (salientd " + v + ")"},
-                                                       {"salientd", v},
-                                                       {"salient_api", api_level}}),
-                              "application/json");
+    const std::string v(version()), octo(octoprint_version);
+    return HttpResponse::text(
+        200,
+        json_text(nlohmann::json{{"api", "0.1"},
+                                 {"server", octo},
+                                 {"text", "OctoPrint " + octo + " (salientd " + v + ")"},
+                                 {"salientd", v},
+                                 {"salient_api", api_level}}),
+        "application/json");
   });
 }
 

@@ -23,7 +23,7 @@ std::string error_reply(const std::string& message) {
 }  // namespace
 
 bool EventHub::valid_topic(const std::string& topic) {
-  if (topic == "jobs" || topic == "printers") return true;
+  if (topic == "jobs" || topic == "printers" || topic == "files") return true;
   for (std::string_view prefix : {"job/", "printer/", "terminal/"})
     if (topic.rfind(prefix, 0) == 0) return valid_id(std::string_view(topic).substr(prefix.size()));
   return false;

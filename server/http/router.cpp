@@ -56,6 +56,11 @@ bool match_pattern(const std::string& pattern, const std::string& path, PathPara
   while (p < pattern.size() && s < path.size()) {
     if (pattern[p] == '{') {
       const std::size_t close = pattern.find('}', p);
+      // "{name*}" as the pattern's last segment takes the rest of the path, slashes and all.
+      if (close + 1 == pattern.size() && close > p + 1 && pattern[close - 1] == '*') {
+        params[pattern.substr(p + 1, close - p - 2)] = path.substr(s);
+        return true;
+      }
       const std::size_t end = path.find('/', s);
       const std::string value = path.substr(s, end == std::string::npos ? std::string::npos : end - s);
       if (value.empty()) return false;

@@ -98,7 +98,8 @@ class Router {
   ExceptionMapper map_exception_;
 };
 
-// Matches "/api/v1/jobs/{id}" against a path, filling the named segments.
+// Matches "/api/v1/jobs/{id}" against a path, filling the named segments; a last segment
+// "{name*}" takes the rest of the path (one character at least), slashes included.
 bool match_pattern(const std::string& pattern, const std::string& path, PathParams& params);
 
 }  // namespace salient::server

@@ -88,6 +88,19 @@ INSERT INTO users (name, role, created_at)
 ALTER TABLE api_keys ADD COLUMN user TEXT NOT NULL DEFAULT 'admin';
 CREATE INDEX api_keys_by_user ON api_keys (user);
 )sql",
+    // 5: folders of uploaded files (files.name is a path "a/b/c.gcode" inside them), and the
+    // settings OctoPrint clients write (POST /api/settings), by key.
+    R"sql(
+CREATE TABLE folders (
+  path TEXT PRIMARY KEY,
+  created_at REAL NOT NULL
+);
+CREATE TABLE settings (
+  key TEXT PRIMARY KEY,
+  value TEXT NOT NULL,
+  updated_at REAL NOT NULL
+);
+)sql",
 };
 
 }  // namespace

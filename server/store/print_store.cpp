@@ -22,6 +22,11 @@ PrintRecord read_print(const Database::Statement& q) {
   return p;
 }
 
+std::string parent_of_path(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash);
+}
+
 StoredFile read_file(const Database::Statement& q) {
   return {q.text(0), q.text(1), q.integer(2), q.real(3)};
 }
@@ -129,6 +134,109 @@ std::vector<StoredFile> PrintStore::files() {
 bool PrintStore::remove_file(const std::string& name) {
   db_.prepare("DELETE FROM files WHERE name = ?").bind(1, std::string_view(name)).run();
   return db_.changes() > 0;
+}
+
+void PrintStore::put_folder(const std::string& path, double now) {
+  for (std::string p = path; !p.empty(); p = parent_of_path(p))
+    db_.prepare("INSERT INTO folders (path, created_at) VALUES (?, ?) ON CONFLICT (path) DO NOTHING")
+        .bind(1, std::string_view(p))
+        .bind(2, now)
+        .run();
+}
+
+bool PrintStore::folder_exists(const std::string& path) {
+  auto q = db_.prepare("SELECT 1 FROM folders WHERE path = ?");
+  q.bind(1, std::string_view(path));
+  const bool found = q.step();
+  if (found) q.run();
+  return found;
+}
+
+std::vector<std::string> PrintStore::folders() {
+  auto q = db_.prepare("SELECT path FROM folders ORDER BY path");
+  std::vector<std::string> out;
+  while (q.step()) out.push_back(q.text(0));
+  return out;
+}
+
+// "Under": the row's path starts with "FOLDER/" (compared as text, so that '%' and '_' in a
+// name mean nothing, as they would to LIKE).
+std::vector<StoredFile> PrintStore::remove_folder(const std::string& path) {
+  Database::Transaction t(db_);
+  auto q = db_.prepare(
+      "SELECT name, digest, size, uploaded_at FROM files WHERE substr(name, 1, length(?1) + 1) = ?1 || '/'");
+  q.bind(1, std::string_view(path));
+  std::vector<StoredFile> removed;
+  while (q.step()) removed.push_back(read_file(q));
+  db_.prepare("DELETE FROM files WHERE substr(name, 1, length(?1) + 1) = ?1 || '/'")
+      .bind(1, std::string_view(path))
+      .run();
+  db_.prepare("DELETE FROM folders WHERE path = ?1 OR substr(path, 1, length(?1) + 1) = ?1 || '/'")
+      .bind(1, std::string_view(path))
+      .run();
+  t.commit();
+  return removed;
+}
+
+// A queued print of a moved file follows it (the queue names files by path).
+void PrintStore::move_file(const std::string& from, const std::string& to) {
+  Database::Transaction t(db_);
+  for (const char* sql : {"UPDATE files SET name = ?1 WHERE name = ?2",
+                          "UPDATE print_queue SET ref = ?1 WHERE kind = 'file' AND ref = ?2"})
+    db_.prepare(sql).bind(1, std::string_view(to)).bind(2, std::string_view(from)).run();
+  t.commit();
+}
+
+void PrintStore::move_folder(const std::string& from, const std::string& to) {
+  Database::Transaction t(db_);
+  db_.prepare(
+         "UPDATE files SET name = ?2 || substr(name, length(?1) + 1) "
+         "WHERE substr(name, 1, length(?1) + 1) = ?1 || '/'")
+      .bind(1, std::string_view(from))
+      .bind(2, std::string_view(to))
+      .run();
+  db_.prepare(
+         "UPDATE folders SET path = ?2 || substr(path, length(?1) + 1) "
+         "WHERE path = ?1 OR substr(path, 1, length(?1) + 1) = ?1 || '/'")
+      .bind(1, std::string_view(from))
+      .bind(2, std::string_view(to))
+      .run();
+  db_.prepare(
+         "UPDATE print_queue SET ref = ?2 || substr(ref, length(?1) + 1) "
+         "WHERE kind = 'file' AND substr(ref, 1, length(?1) + 1) = ?1 || '/'")
+      .bind(1, std::string_view(from))
+      .bind(2, std::string_view(to))
+      .run();
+  t.commit();
+}
+
+void PrintStore::copy_file(const std::string& from, const std::string& to, double now) {
+  db_.prepare(
+         "INSERT INTO files (name, digest, size, uploaded_at) SELECT ?, digest, size, ? FROM files WHERE "
+         "name = ?")
+      .bind(1, std::string_view(to))
+      .bind(2, now)
+      .bind(3, std::string_view(from))
+      .run();
+}
+
+void PrintStore::copy_folder(const std::string& from, const std::string& to, double now) {
+  Database::Transaction t(db_);
+  db_.prepare(
+         "INSERT INTO files (name, digest, size, uploaded_at) SELECT ?2 || substr(name, length(?1) + 1), "
+         "digest, size, ?3 FROM files WHERE substr(name, 1, length(?1) + 1) = ?1 || '/'")
+      .bind(1, std::string_view(from))
+      .bind(2, std::string_view(to))
+      .bind(3, now)
+      .run();
+  db_.prepare(
+         "INSERT INTO folders (path, created_at) SELECT ?2 || substr(path, length(?1) + 1), ?3 FROM folders "
+         "WHERE path = ?1 OR substr(path, 1, length(?1) + 1) = ?1 || '/'")
+      .bind(1, std::string_view(from))
+      .bind(2, std::string_view(to))
+      .bind(3, now)
+      .run();
+  t.commit();
 }
 
 }  // namespace salient::server

@@ -24,6 +24,7 @@ struct PrintRecord {
   std::optional<double> finished_at;
 };
 
+// An uploaded file; `name` is its path in the file area ("a/b/c.gcode", "c.gcode" at the top).
 struct StoredFile {
   std::string name, digest;
   long long size = 0;
@@ -49,6 +50,21 @@ class PrintStore {
   std::optional<StoredFile> file(const std::string& name);
   std::vector<StoredFile> files();
   bool remove_file(const std::string& name);
+
+  // Folders (paths without a leading '/'). put_folder also makes the missing ancestors; it is
+  // a no-op for one that exists.
+  void put_folder(const std::string& path, double now);
+  bool folder_exists(const std::string& path);
+  std::vector<std::string> folders();
+  // The folder, its sub-folders and the files under it, in one transaction: the removed files.
+  std::vector<StoredFile> remove_folder(const std::string& path);
+  // Renames a file, or a folder with everything under it; copies likewise (a copy shares the
+  // content, which is addressed by digest). The destination must not exist (the caller checks).
+  // Queued prints of moved files follow them.
+  void move_file(const std::string& from, const std::string& to);
+  void move_folder(const std::string& from, const std::string& to);
+  void copy_file(const std::string& from, const std::string& to, double now);
+  void copy_folder(const std::string& from, const std::string& to, double now);
 
  private:
   Database& db_;
