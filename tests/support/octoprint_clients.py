@@ -183,11 +183,15 @@ class Http:
         return self.request("POST", path, out, headers=headers, **kw)
 
 
+OPENED = []  # every PushSocket, dumped into the work directory at the end (evidence)
+
+
 class PushSocket:
     """OctoPrint's push API as a raw WebSocket at /sockjs/websocket. A reader thread keeps every
     message with the time it came (monotonic), so the tests can look at the order and the pace."""
 
     def __init__(self, base, path="/sockjs/websocket", header=None):
+        OPENED.append(self)
         url = "ws" + base[len("http"):] + path
         self.ws = websocket.create_connection(url, timeout=10, header=header or [])
         self.messages = []  # (time, type, payload, raw)
@@ -377,6 +381,11 @@ def main(run, client):
         checks.failures.append(f"exception: {e!r}")
     finally:
         daemon.stop()
+        for n, ws in enumerate(OPENED):
+            with open(os.path.join(work, f"socket-{n}.jsonl"), "w") as f:
+                t0 = ws.messages[0][0] if ws.messages else 0
+                for t, _, _, raw in list(ws.messages):
+                    f.write(f"{t - t0:9.3f} {raw}\n")
     if checks.failures:
         print("daemon log (tail):\n" + daemon.log_text()[-2000:])
     return checks.finish()
