@@ -164,6 +164,7 @@ hex=$(head -c 32 /dev/urandom | od -An -tx1 | tr -d ' \n')
 import hashlib, sqlite3, sys
 db = sqlite3.connect(sys.argv[1])
 db.executescript("DROP INDEX api_keys_by_user; ALTER TABLE api_keys DROP COLUMN user; DROP TABLE users;"
+                 "DROP TABLE folders; DROP TABLE settings;"
                  "DELETE FROM api_keys; PRAGMA user_version = 3;")
 db.execute("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', 1)",
            (hashlib.sha256(sys.argv[2].encode()).hexdigest(),))
