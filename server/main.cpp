@@ -152,7 +152,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_system_routes(router);
   add_job_routes(router, store, jobs, printers, config);
   add_printer_routes(router, printers, store, config);
-    add_octoprint_routes(router, store, printers, config, octo, sessions, hub);
+  add_octoprint_routes(router, store, printers, config, octo, sessions, hub);
   AppKeyRequests app_key_requests;
   add_auth_routes(router, keys, sessions, app_key_requests);
   add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());

@@ -99,7 +99,12 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const Link
   const auto t0 = Clock::now();
   auto now = [&] { return std::chrono::duration_cast<Millis>(Clock::now() - t0); };
   marlin::MarlinSession session(config_.session);
-  request_ = kNone;
+  // A request made before the stream began (the printer says "printing" as soon as the print is
+  // queued) is this print's: it is kept, and cleared when the print ends so none carries over.
+  struct ClearRequest {
+    std::atomic<int>& request;
+    ~ClearRequest() { request = kNone; }
+  } clear_request{request_};
   const std::vector<std::string> prelude =
       program && resume_from > 0 ? marlin::resume_prelude(*program, resume_from) : std::vector<std::string>{};
   session.begin(std::move(program), now(), resume_from, prelude);

@@ -121,7 +121,12 @@ PrintResult S3gLink::print_x3g(std::shared_ptr<const s3g::X3gProgram> program, c
   const auto t0 = Clock::now();
   auto now = [&] { return std::chrono::duration_cast<Millis>(Clock::now() - t0); };
   s3g::S3gSession session(config_.session);
-  request_ = kNone;
+  // A request made before the stream began (the printer says "printing" as soon as the print is
+  // queued) is this print's: it is kept, and cleared when the print ends so none carries over.
+  struct ClearRequest {
+    std::atomic<int>& request;
+    ~ClearRequest() { request = kNone; }
+  } clear_request{request_};
   PrintResult result;
   try {
     session.begin(std::move(program), now(), resume_from, std::move(prelude));

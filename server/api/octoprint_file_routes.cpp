@@ -108,7 +108,7 @@ HttpResponse upload_file(const OctoContext& ctx, const Upload& u, const HttpRequ
     files.put_file(path, digest, static_cast<long long>(u.file->body.size()), octo_now());
   }
   if (replaced) ctx.store.remove_unreferenced({*replaced});  // an upload to the same path replaces it
-  ctx.octo.files_changed(path);  // the push socket's FileAdded
+  ctx.octo.files_changed(path);                              // the push socket's FileAdded
   publish_files(ctx.hub, "added", {{"path", path}, {"name", name}, {"size", u.file->body.size()}});
   if (u.select || u.print) {
     std::lock_guard lock(ctx.octo.mutex);

@@ -39,9 +39,9 @@ json job_json(const OctoContext& ctx, const HttpRequest& r, const Printer& print
               {"filament", nullptr},
               {"user", nullptr}};
   std::string path;
+  progress = progress_json(s);  // as the push socket's: filepos in bytes; 100 % after a print
   if (s.print) {
     path = s.print->record.filename;
-    progress = progress_json(s);  // as the push socket's: filepos in bytes
   } else {
     std::lock_guard lock(ctx.octo.mutex);
     path = ctx.octo.selected;

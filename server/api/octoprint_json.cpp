@@ -228,7 +228,8 @@ json print_job_json(const PrinterStatus& s, const std::string& selected,
   json f = {{"name", nullptr},   {"path", nullptr}, {"display", nullptr},
             {"origin", nullptr}, {"size", nullptr}, {"date", nullptr}};
   if (!name.empty()) {
-    f = {{"name", name},      {"path", name},    {"display", name},
+    const std::string leaf = name.substr(name.find_last_of('/') + 1);  // OctoPrint: name is the leaf
+    f = {{"name", leaf},      {"path", name},    {"display", leaf},
          {"origin", "local"}, {"size", nullptr}, {"date", nullptr}};
     if (file && file->name == name)
       f["size"] = file->size, f["date"] = static_cast<long long>(file->uploaded_at);
@@ -251,6 +252,13 @@ json print_job_json(const PrinterStatus& s, const std::string& selected,
 }
 
 json progress_json(const PrinterStatus& s) {
+  // After a print that ended well OctoPrint keeps its progress: 100 %, its time, none left.
+  if (!s.print && s.last_print && s.last_print->state == PrintState::finished && s.last_print->finished_at)
+    return {{"completion", 100.0},
+            {"filepos", nullptr},
+            {"printTime", static_cast<long long>(*s.last_print->finished_at - s.last_print->started_at)},
+            {"printTimeLeft", 0},
+            {"printTimeLeftOrigin", nullptr}};
   if (!s.print)
     return {{"completion", nullptr},
             {"filepos", nullptr},

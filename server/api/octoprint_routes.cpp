@@ -74,7 +74,13 @@ void add_octoprint_routes(Router& router, Store& store, PrinterService& printers
                              {"height", pp.max_height},
                              {"formFactor", "rectangular"},
                              {"origin", pp.origin_at_center ? "center" : "lowerleft"}}},
-                           {"extruder", {{"count", 1}, {"nozzleDiameter", pp.nozzle_diameter}}}};
+                           {"extruder", {{"count", 1}, {"nozzleDiameter", pp.nozzle_diameter}}},
+                           // Jog feedrates (mm/min), OctoPrint's defaults; no axis inverted.
+                           {"axes",
+                            {{"x", {{"speed", 6000}, {"inverted", false}}},
+                             {"y", {{"speed", 6000}, {"inverted", false}}},
+                             {"z", {{"speed", 200}, {"inverted", false}}},
+                             {"e", {{"speed", 300}, {"inverted", false}}}}}};
     }
     return json_response(200, {{"profiles", profiles}});
   });
