@@ -28,18 +28,13 @@ json last_print_time(Store& store, const Printer& printer, const std::string& pa
 json job_json(const OctoContext& ctx, const HttpRequest& r, const Printer& printer, const PrinterStatus& s) {
   json file = {{"name", nullptr},   {"path", nullptr}, {"display", nullptr},
                {"origin", nullptr}, {"size", nullptr}, {"date", nullptr}};
-  json progress = {{"completion", nullptr},
-                   {"filepos", nullptr},
-                   {"printTime", nullptr},
-                   {"printTimeLeft", nullptr},
-                   {"printTimeLeftOrigin", nullptr}};
   json job = {{"file", nullptr},
               {"estimatedPrintTime", nullptr},
               {"lastPrintTime", nullptr},
               {"filament", nullptr},
               {"user", nullptr}};
   std::string path;
-  progress = progress_json(s);  // as the push socket's: filepos in bytes; 100 % after a print
+  const json progress = progress_json(s);  // as the push socket's: filepos in bytes; 100 % after a print
   if (s.print) {
     path = s.print->record.filename;
   } else {
