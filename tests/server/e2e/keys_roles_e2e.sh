@@ -94,7 +94,7 @@ ws = websocket.create_connection(f"ws://127.0.0.1:{port}/api/v1/events?apikey={k
 ws.close()
 try:
     websocket.create_connection(f"ws://127.0.0.1:{port}/api/v1/events", timeout=10,
-                                subprotocols=["salient-key.x" + key[1:]])
+                                subprotocols=["salient-key." + ("y" if key[0] == "x" else "x") + key[1:]])
     sys.exit("a wrong key was accepted")
 except websocket.WebSocketBadStatusException as e:
     assert e.status_code == 401, e.status_code
