@@ -191,7 +191,7 @@ long long Printer::start_print(const PrintRequest& request) {
   c.confirmed = static_cast<long long>(request.resume_from);
   c.started = Clock::now();
   queue_.push(PrintCommand{request, c.record.id, std::move(program)});
-  cancel_requested_ = false;
+  cancel_requested_ = pause_pending_ = false;
   current_ = c;
   enter(PrinterState::printing);
   wake_.notify_all();
@@ -202,7 +202,10 @@ void Printer::pause() {
   {
     std::lock_guard lock(mutex_);
     if (state_ != PrinterState::printing || !link_) conflict(is(state_) + ": nothing to pause");
-    link_->pause();
+    if (print_streaming_)
+      link_->pause();
+    else
+      pause_pending_ = true;
     enter(PrinterState::paused);
   }
   notify(false);
@@ -212,7 +215,10 @@ void Printer::resume() {
   {
     std::lock_guard lock(mutex_);
     if (state_ != PrinterState::paused || !link_) conflict(is(state_) + ": nothing to resume");
-    link_->resume();
+    if (print_streaming_)
+      link_->resume();
+    else
+      pause_pending_ = false;
     enter(PrinterState::printing);
   }
   notify(false);
@@ -223,11 +229,33 @@ void Printer::cancel() {
     std::lock_guard lock(mutex_);
     if ((state_ != PrinterState::printing && state_ != PrinterState::paused) || !link_)
       conflict(is(state_) + ": nothing to cancel");
-    link_->cancel();
-    cancel_requested_ = true;
-    enter(PrinterState::cancelling);
+    if (print_streaming_) {
+      link_->cancel();
+      cancel_requested_ = true;
+      enter(PrinterState::cancelling);
+    } else {
+      drop_waiting_print();
+    }
   }
   notify(false);
+}
+
+void Printer::drop_waiting_print() {
+  queue_.take_print();
+  pause_pending_ = false;
+  if (!current_) return enter(PrinterState::operational);
+  enter(PrinterState::cancelling);  // as a streamed cancel goes: clients count a cancel by it
+  PrintRecord record = current_->record;
+  record.state = PrintState::cancelled, record.confirmed = current_->confirmed;
+  record.reason = "cancelled before it began";
+  try {
+    PrintStore(store_.db()).finish(record.id, record.state, record.confirmed, record.reason, now_seconds());
+    if (auto stored = PrintStore(store_.db()).get(record.id)) record = *stored;
+  } catch (const StoreError&) {  // a full disk: the outcome is kept in memory
+  }
+  last_ = record;
+  current_.reset();
+  enter(PrinterState::operational);
 }
 
 void Printer::emergency_stop() {

@@ -116,6 +116,7 @@ class Printer {
   void close_link(PrinterState state, const std::string& error);
   void handle_event(const protocol::LinkEvent& e, Throttle& throttle);
   void run_print(const PrintCommand& print, const EventFn& on_event);
+  void drop_waiting_print();  // under mutex_: a cancel before the print streamed
   PrintState print_outcome(const protocol::PrintResult& result, bool interrupted, bool cancelled) const;
   void set_state(PrinterState state, const std::string& error = {});
   // Under mutex_: the state (and its error) changes, and the change is kept.
@@ -132,6 +133,11 @@ class Printer {
   bool stopping_ = false;
   CommandQueue queue_;
   bool cancel_requested_ = false;  // the running print was cancelled (not failed) by a request
+  // The thread has taken the print and streams it: pause, resume and cancel go to the link. Before
+  // that (console batches ahead of it), they are the queue's: a request sent to the link then would
+  // end the console batch instead, and the print would run as if never cancelled.
+  bool print_streaming_ = false;
+  bool pause_pending_ = false;     // paused before it began to stream: the link is told when it does
   bool commands_running_ = false;  // console commands are being streamed
 
   std::unique_ptr<SimProcess> sim_;

@@ -46,8 +46,11 @@ void Printer::run() {
     std::unique_lock lock(mutex_);
     if (!link_) wake_.wait(lock, [&] { return stopping_ || queue_.connect_waiting(); });
     if (stopping_) break;
-    std::optional<PrinterCommand> next = queue_.take(link_ != nullptr);
+    // A print paused before it began stays in the queue until resumed: nothing of it goes.
+    std::optional<PrinterCommand> next = queue_.take(link_ != nullptr, pause_pending_);
     commands_running_ = next && std::holds_alternative<ConsoleCommand>(*next);
+    // From here requests go to the link, which keeps one made before the stream begins.
+    if (next && std::holds_alternative<PrintCommand>(*next)) print_streaming_ = true;
     lock.unlock();
     if (!next) {
       try {
@@ -143,6 +146,7 @@ void Printer::close_link(PrinterState state, const std::string& error) {
     sim = std::move(sim_);
     // Requests were for this connection: none of them is carried over to the next one.
     queue_.clear();
+    print_streaming_ = pause_pending_ = false;
     const bool had = link != nullptr || state_ != state;
     device_.clear();
     hotend_ = bed_ = Temperature{};
@@ -167,7 +171,7 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
       if (e.bed) bed_.actual = e.bed;
       if (e.bed_target) bed_.target = e.bed_target;
       tell = true;
-    } else if (e.kind == Kind::progress && current_) {
+    } else if (e.kind == Kind::progress && current_ && print_streaming_) {  // not a console batch's
       current_->confirmed = static_cast<long long>(e.done);
       tell = true;
       // The last command is confirmed: the file is done, what is left is recording the print.
@@ -261,6 +265,7 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
     }
     last_ = record;
     current_.reset();
+    print_streaming_ = false;
     counters_.lines_sent +=
         static_cast<long long>(result.confirmed - std::min(result.confirmed, request.resume_from));
     counters_.lines_resent += static_cast<long long>(result.lines_resent);

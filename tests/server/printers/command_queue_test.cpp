@@ -16,7 +16,9 @@ bool next_is(CommandQueue& q, bool linked = true) {
 }  // namespace
 
 TEST_CASE(
-    "without a link only a connect goes, with one a disconnect, an e-stop, a print, then console batches") {
+    "without a link only a connect goes, with one a disconnect, an e-stop, then console batches and the "
+    "print "
+    "in the order they came") {
   CommandQueue q;
   q.push(ConsoleCommand{{"G28"}});
   q.push(ConsoleCommand{{"M105"}});
@@ -29,15 +31,35 @@ TEST_CASE(
   CHECK(next_is<DisconnectCommand>(q));
   CHECK(next_is<EmergencyStopCommand>(q));
   CHECK(q.print_waiting());
+  // A home asked for before the print goes before it: after it, it would move the head over the
+  // finished part.
+  const auto first = q.take(true);
+  REQUIRE(first);
+  CHECK(std::get<ConsoleCommand>(*first).lines == std::vector<std::string>{"G28"});
+  CHECK(std::get<ConsoleCommand>(*q.take(true)).lines == std::vector<std::string>{"M105"});
   const auto p = q.take(true);
   REQUIRE(p);
   CHECK(std::get<PrintCommand>(*p).print_id == 7);
   CHECK(!q.print_waiting());
-  const auto first = q.take(true);
-  REQUIRE(first);
-  CHECK(std::get<ConsoleCommand>(*first).lines == std::vector<std::string>{"G28"});  // in the order they came
-  CHECK(std::get<ConsoleCommand>(*q.take(true)).lines == std::vector<std::string>{"M105"});
   CHECK(!q.take(true));
+  CHECK(q.empty());
+}
+
+TEST_CASE("a waiting print can be taken back (a cancel before it streams), the console batches stay") {
+  CommandQueue q;
+  q.push(ConsoleCommand{{"G28"}});
+  q.push(PrintCommand{{std::nullopt, "digest", "a.gcode", 0}, 7});
+  const auto back = q.take_print();
+  REQUIRE(back);
+  CHECK(back->print_id == 7);
+  CHECK(!q.print_waiting());
+  CHECK(!q.take_print());
+  CHECK(std::get<ConsoleCommand>(*q.take(true)).lines == std::vector<std::string>{"G28"});
+  q.push(PrintCommand{{std::nullopt, "digest", "b.gcode", 0}, 8});
+  q.push(ConsoleCommand{{"M105"}});
+  CHECK(!q.take(true, true));  // held (paused before it began): what came after it does not pass
+  CHECK(q.take_print()->print_id == 8);
+  CHECK(std::get<ConsoleCommand>(*q.take(true)).lines == std::vector<std::string>{"M105"});
   CHECK(q.empty());
 }
 

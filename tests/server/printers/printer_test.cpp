@@ -223,6 +223,47 @@ TEST_CASE("a cancel is kept as cancelling then operational, and progress counts 
   p.stop();
 }
 
+TEST_CASE("a print waiting behind console commands is cancelled or paused as itself, never the commands") {
+  Fixture f("printer-cancel-waiting");
+  Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  const std::string gcode = make_gcode(300);
+  // A dwell of 1.5 s (30 s at time scale 0.05) asked for before the print: it goes first, and the
+  // print waits behind it, "printing" already.
+  p.command({"G4 S30"});
+  std::this_thread::sleep_for(300ms);  // the dwell is under way when the print comes
+  std::uint64_t seen = 0;
+  p.state_changes_since(seen);
+  const long long cancelled = p.print(f.file(gcode));
+  p.cancel();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  CHECK(states_of(p.state_changes_since(seen)) == std::vector<PrinterState>{PrinterState::printing,
+                                                                            PrinterState::cancelling,
+                                                                            PrinterState::operational});
+  const auto record = PrintStore(f.store.db()).get(cancelled);
+  REQUIRE(record);
+  CHECK(record->state == PrintState::cancelled);
+  CHECK(record->confirmed == 0);
+  REQUIRE(status(p)["last_print"]["id"] == cancelled);
+
+  // Paused while it waits: it begins paused, and a resume prints it exactly.
+  p.command({"G4 S30"});
+  const long long paused = p.print(f.file(gcode));
+  p.pause();
+  std::this_thread::sleep_for(2500ms);  // the dwell is over: the print has been taken, and holds
+  CHECK(p.state() == PrinterState::paused);
+  CHECK(p.status().print->record.confirmed == 0);
+  p.resume();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }, 60s));
+  CHECK(status(p)["last_print"]["id"] == paused);
+  CHECK(status(p)["last_print"]["state"] == "finished");
+  p.stop();
+  std::vector<std::string> want{"G4 S30", "G4 S30"};
+  for (const std::string& c : commands_of(gcode)) want.push_back(c);
+  CHECK(executed(f.dir.path / "sim.log") == want);  // the cancelled print sent nothing
+}
+
 TEST_CASE("a stop mid-print leaves it interrupted and resumable, and the resume prints exactly the rest") {
   Fixture f("printer-resume");
   const std::string gcode = make_gcode(8000);
