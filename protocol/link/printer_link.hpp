@@ -14,6 +14,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "protocol/gcode/program.hpp"
 
@@ -57,6 +58,7 @@ struct PrintResult {
   bool halted = false;  // a cancel had to halt the firmware: it must be reset (reconnected)
   std::size_t lines_resent = 0, pokes = 0;
   double seconds = 0;
+  std::vector<std::string> unsent;  // console lines sent into the print after it ended (send())
 };
 
 class PrinterLink {
@@ -85,6 +87,13 @@ class PrinterLink {
   // can be resumed later from where it stopped. During handshake(): it gives up at once.
   virtual void interrupt() = 0;
   virtual void emergency_stop() = 0;
+  // From any thread, into a running print: console lines that go next (also while paused), as
+  // OctoPrint sends a temperature or a flow rate during a print. False: this link takes commands
+  // between prints only. Lines the print ends before sending come back in PrintResult::unsent.
+  virtual bool send(const std::vector<std::string>& lines) {
+    (void)lines;
+    return false;
+  }
 };
 
 }  // namespace salient::protocol

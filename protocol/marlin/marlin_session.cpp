@@ -96,6 +96,13 @@ void MarlinSession::resume(Millis now) {
   pump(now);
 }
 
+void MarlinSession::send_now(const std::vector<std::string>& lines, Millis now) {
+  if (state_ != SessionState::printing && state_ != SessionState::paused) return;
+  for (const std::string& line : lines)
+    if (std::string command = strip_comment(line); !command.empty()) console_.push_back(std::move(command));
+  pump(now);
+}
+
 void MarlinSession::cancel(const std::vector<std::string>& cleanup, Millis now) {
   if (state_ != SessionState::printing && state_ != SessionState::paused) return;
   drop_queue();
@@ -213,15 +220,23 @@ void MarlinSession::sample_reply_time(Millis sample) {
 }
 
 void MarlinSession::pump(Millis now) {
-  const bool sending = state_ == SessionState::printing || state_ == SessionState::cancelled;
+  // Paused, only console lines go, and only when no host line (a resend) is due before them.
+  const bool paused = state_ == SessionState::paused;
+  const bool sending = state_ == SessionState::printing || state_ == SessionState::cancelled ||
+                       (paused && queue_.empty() && !console_.empty());
   // In ping-pong a Resend's own ok must come in before the resent line goes, or it would be
   // taken for that line's ok.
   const bool held = synchronising_ || (!advanced_ok_ && resend_oks_due_ > 0);
   while (sending && !held) {
-    // Host lines (M110, the prelude, resends, a cancel's cleanup) go before the program's next.
+    // Host lines (M110, the prelude, resends, a cancel's cleanup) go first, then console lines,
+    // then the program's next.
     const bool from_queue = !queue_.empty();
-    if (!from_queue && next_command_ >= program_->size()) break;
-    const std::string& command = from_queue ? queue_.front().first : (*program_)[next_command_].text;
+    const bool from_console = !from_queue && !console_.empty();
+    if (paused && !from_console) break;
+    if (!from_queue && !from_console && next_command_ >= program_->size()) break;
+    const std::string& command = from_queue     ? queue_.front().first
+                                 : from_console ? console_.front()
+                                                : (*program_)[next_command_].text;
     const std::size_t limit = advanced_ok_ ? static_cast<std::size_t>(std::max(1, free_slots_)) : 1;
     if (in_flight_.size() >= limit) break;
     const std::size_t bytes = frame(static_cast<std::uint64_t>(next_line_), command).size() + 1;
@@ -230,6 +245,10 @@ void MarlinSession::pump(Millis now) {
       auto [text, counts] = std::move(queue_.front());
       queue_.pop_front();
       send_numbered(text, counts, now);
+    } else if (from_console) {
+      const std::string text = std::move(console_.front());
+      console_.pop_front();
+      send_numbered(text, false, now);
     } else {
       send_numbered((*program_)[next_command_++].text, true, now);
     }
@@ -245,6 +264,7 @@ void MarlinSession::pump(Millis now) {
 
 void MarlinSession::drop_queue() {
   queue_.clear();
+  console_.clear();
   next_command_ = program_->size();
 }
 

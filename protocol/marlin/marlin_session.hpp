@@ -99,6 +99,10 @@ class MarlinSession {
              const std::vector<std::string>& prelude = {});
   void pause();
   void resume(Millis now);
+  // Console lines during a print (a temperature, a fan, a flow rate): sent next, before the
+  // program's next command, and while paused too (after the host's own lines); a cancel drops
+  // those not sent yet. They do not count as the print's commands.
+  void send_now(const std::vector<std::string>& lines, Millis now);
   // Stops sending the print; `cleanup` (heaters off, park) is sent next.
   void cancel(const std::vector<std::string>& cleanup, Millis now);
   // M112 at once, unnumbered (EMERGENCY_PARSER firmware acts on it even with a full queue).
@@ -135,7 +139,9 @@ class MarlinSession {
     bool resent;               // sent again: its reply time says nothing about the link (Karn)
     Millis sent_at;
   };
-  bool nothing_to_send() const { return queue_.empty() && next_command_ >= program_->size(); }
+  bool nothing_to_send() const {
+    return queue_.empty() && console_.empty() && next_command_ >= program_->size();
+  }
   void drop_queue();  // nothing more of the program or the host's lines goes
   void handle(const MarlinReply& reply, Millis now);
   void listen(const MarlinReply& reply);  // between prints
@@ -156,6 +162,7 @@ class MarlinSession {
   std::shared_ptr<const Program> program_ = std::make_shared<const Program>();
   std::size_t next_command_ = 0;                            // the program's next command to send
   std::deque<std::pair<std::string, bool>> queue_;          // host lines (command, counts) not yet sent
+  std::deque<std::string> console_;                         // console lines during the print, not yet sent
   std::map<long long, std::pair<std::string, bool>> sent_;  // line → (command, counts), for resends
   std::deque<InFlight> in_flight_;
   long long next_line_ = 0;

@@ -1,6 +1,7 @@
 #include "protocol/serial/marlin_link.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include "protocol/marlin/resume_prelude.hpp"
 #include "protocol/serial/link_events.hpp"
@@ -93,6 +94,17 @@ void MarlinLink::idle(std::chrono::milliseconds duration, const LinkEventFn& on_
   pass();
 }
 
+bool MarlinLink::send(const std::vector<std::string>& lines) {
+  std::lock_guard lock(send_mutex_);
+  to_send_.insert(to_send_.end(), lines.begin(), lines.end());
+  return true;
+}
+
+std::vector<std::string> MarlinLink::take_to_send() {
+  std::lock_guard lock(send_mutex_);
+  return std::exchange(to_send_, {});
+}
+
 PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const LinkEventFn& on_event,
                               std::size_t resume_from) {
   using marlin::SessionState;
@@ -117,6 +129,7 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const Link
     result.pokes = session.pokes_sent();
     result.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
     result.halted = session.halted();
+    result.unsent = take_to_send();
     if (idle_) idle_->heard(since_start());  // the print's own replies count for the time between prints
     return result;
   };
@@ -144,6 +157,7 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const Link
         default:
           break;
       }
+      if (std::vector<std::string> lines = take_to_send(); !lines.empty()) session.send_now(lines, now());
       if (now() >= give_up) {
         if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
         result.reason = "the printer did not confirm the heaters off within " +

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,7 @@ class MarlinLink : public PrinterLink {
   void cancel() override { request_ = kCancel; }
   void interrupt() override { request_ = kInterrupt; }
   void emergency_stop() override { request_ = kEmergency; }
+  bool send(const std::vector<std::string>& lines) override;
 
   const FirmwareInfo& firmware() const { return firmware_; }
 
@@ -64,6 +66,9 @@ class MarlinLink : public PrinterLink {
   LinkConfig config_;
   FirmwareInfo firmware_;
   std::atomic<int> request_{kNone};
+  std::mutex send_mutex_;
+  std::vector<std::string> to_send_;  // console lines for the running print, under send_mutex_
+  std::vector<std::string> take_to_send();
   marlin::Millis since_start() const;  // the listening sessions' clock
   bool exchange(marlin::MarlinSession& listener, const std::string& command,
                 std::vector<marlin::SessionEvent>& heard);

@@ -8,7 +8,7 @@ void CommandQueue::push(PrinterCommand command) {
     void operator()(ConnectCommand) { q.connect_ = true, q.disconnect_ = false; }
     void operator()(DisconnectCommand) { q.disconnect_ = true, q.connect_ = false; }
     void operator()(EmergencyStopCommand) { q.estop_ = true; }
-    void operator()(PrintCommand& p) { q.print_ = std::move(p), q.console_first_ = q.console_.size(); }
+    void operator()(PrintCommand& p) { q.print_ = std::move(p); }
     void operator()(ConsoleCommand& c) { q.console_.push_back(std::move(c)); }
   };
   std::visit(Push{*this}, command);
@@ -23,23 +23,18 @@ std::optional<PrinterCommand> CommandQueue::take(bool linked, bool hold_print) {
   connect_ = false;
   if (disconnect_) return disconnect_ = false, PrinterCommand(DisconnectCommand{});
   if (estop_) return estop_ = false, PrinterCommand(EmergencyStopCommand{});
-  if (print_ && console_first_ == 0) {
-    if (hold_print) return std::nullopt;
-    return PrinterCommand(*take_print());
-  }
   if (!console_.empty()) {
     PrinterCommand c = std::move(console_.front());
     console_.pop_front();
-    if (console_first_ > 0) --console_first_;
     return c;
   }
+  if (print_ && !hold_print) return PrinterCommand(*take_print());
   return std::nullopt;
 }
 
 std::optional<PrintCommand> CommandQueue::take_print() {
   std::optional<PrintCommand> p = std::move(print_);
   print_.reset();
-  console_first_ = 0;
   return p;
 }
 

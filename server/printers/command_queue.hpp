@@ -1,8 +1,8 @@
 // CommandQueue: what other threads asked a printer's thread to do, as typed requests instead of
 // flags. The thread takes the most urgent one that can go now: a disconnect, then an emergency
-// stop, then console batches and the print in the order they came (a home asked for before a
-// print must not move the head over the finished part). Not thread-safe: the Printer holds it
-// under its mutex.
+// stop, then console batches (asked for before the print, or for now while it waits: a home
+// asked for before a print must not move the head over the finished part), then the print.
+// Not thread-safe: the Printer holds it under its mutex.
 #pragma once
 
 #include <cstddef>
@@ -47,13 +47,11 @@ class CommandQueue {
   void push(PrinterCommand command);
   // The most urgent command that can go now: without a link, only a connect; with one, the rest
   // (a connect is then dropped: it is done).
-  // `hold_print`: the print is paused before it began, and waits (console batches do not pass it).
+  // `hold_print`: the print is paused before it began, and waits.
   std::optional<PrinterCommand> take(bool linked, bool hold_print = false);
   // The waiting print, out of the queue (cancelled before it began to stream).
   std::optional<PrintCommand> take_print();
-  void clear() {
-    connect_ = disconnect_ = estop_ = false, print_.reset(), console_.clear(), console_first_ = 0;
-  }
+  void clear() { connect_ = disconnect_ = estop_ = false, print_.reset(), console_.clear(); }
 
   bool print_waiting() const { return print_.has_value(); }
   bool console_full() const { return console_.size() >= kMaxConsoleBatches; }
@@ -64,7 +62,6 @@ class CommandQueue {
   bool connect_ = false, disconnect_ = false, estop_ = false;
   std::optional<PrintCommand> print_;
   std::deque<ConsoleCommand> console_;
-  std::size_t console_first_ = 0;  // console batches that came before the waiting print
 };
 
 }  // namespace salient::server

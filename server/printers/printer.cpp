@@ -275,10 +275,15 @@ void Printer::emergency_stop() {
 void Printer::command(const std::vector<std::string>& commands) {
   {
     std::lock_guard lock(mutex_);
-    if (state_ != PrinterState::operational || queue_.print_waiting())
-      conflict(state_ == PrinterState::printing || state_ == PrinterState::paused
-                   ? is(state_) + ": commands go between prints"
-                   : not_ready(state_, error_));
+    const bool in_print = state_ == PrinterState::printing || state_ == PrinterState::paused;
+    if (in_print && print_streaming_) {  // into the stream, as OctoPrint does (a temperature, a flow rate)
+      if (!link_->send(commands)) conflict(is(state_) + ": this printer takes commands between prints only");
+      return;
+    }
+    // A print waiting to begin (behind other commands) lets these go before it: they are for now.
+    if (state_ != PrinterState::operational && !in_print)
+      conflict(busy_printing(state_) ? is(state_) + ": commands go between prints"
+                                     : not_ready(state_, error_));
     if (queue_.console_full())
       throw TooBusy("busy", "printer " + config_.id + " has 16 command batches waiting: try again shortly",
                     2);

@@ -266,6 +266,8 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
     last_ = record;
     current_.reset();
     print_streaming_ = false;
+    // Console lines sent into the print as it ended: they go now, as commands between prints.
+    if (!result.unsent.empty()) queue_.push(ConsoleCommand{std::move(result.unsent)});
     counters_.lines_sent +=
         static_cast<long long>(result.confirmed - std::min(result.confirmed, request.resume_from));
     counters_.lines_resent += static_cast<long long>(result.lines_resent);

@@ -240,6 +240,38 @@ TEST_CASE("pause, resume, cancel and emergency stop") {
   CHECK(s.state() == SessionState::failed);
 }
 
+TEST_CASE("console lines during a print: next to go, while paused too, not counted, dropped by a cancel") {
+  MarlinSession s;  // ping-pong: one line in flight, so the order is plain to see
+  s.begin(program, milliseconds(0));
+  s.take_output();                        // M110 N0
+  s.on_receive("ok\n", milliseconds(1));  // G28 goes
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{1, "G28"}});
+  s.send_now({"M106 S128 ; fan", "", "M220 S90"}, milliseconds(2));  // waits for the line in flight
+  CHECK(s.take_output().empty());
+  s.on_receive("ok\n", milliseconds(3));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{2, "M106 S128"}});
+  s.pause();
+  s.on_receive("ok\n", milliseconds(4));  // paused: the console line still goes, the program's does not
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{3, "M220 S90"}});
+  s.on_receive("ok\n", milliseconds(5));
+  CHECK(s.take_output().empty());
+  s.send_now({"M104 S190"}, milliseconds(6));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{4, "M104 S190"}});
+  s.on_receive("ok\n", milliseconds(7));
+  CHECK(s.commands_done() == 1);  // only G28 of the file
+  s.resume(milliseconds(8));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{5, "G1 X10 Y10 F3000"}});
+  s.send_now({"M107"}, milliseconds(9));    // in flight behind the move…
+  s.cancel({"M104 S0"}, milliseconds(10));  // …and dropped by the cancel: the cleanup goes instead
+  s.on_receive("ok\n", milliseconds(11));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{6, "M104 S0"}});
+  s.on_receive("ok\n", milliseconds(12));
+  CHECK(s.state() == SessionState::cancelled);
+  CHECK(s.idle());
+  s.send_now({"M106"}, milliseconds(13));  // nothing goes after the end
+  CHECK(s.take_output().empty());
+}
+
 TEST_CASE("replies: temperatures, firmware, capabilities, host actions, split across reads") {
   MarlinReply t = parse_reply(" T:210.5 /215.0 B:60.2 /60.0 @:127 B@:0");
   CHECK(t.kind == ReplyKind::temperature);
