@@ -1,5 +1,7 @@
 #include "server/api/printer_json.hpp"
 
+#include <algorithm>
+
 namespace salient::server {
 namespace {
 
@@ -20,19 +22,26 @@ json temperature_json(const Temperature& t) {
 }  // namespace
 
 json print_record_json(const PrintRecord& p) {
-  return {{"id", p.id},
-          {"job", p.job_id ? json(*p.job_id) : json(nullptr)},
-          {"file", p.filename},
-          {"state", to_string(p.state)},
-          {"confirmed", p.confirmed},
-          {"total", p.total},
-          {"progress", p.total > 0 ? double(p.confirmed) / double(p.total) : 0.0},
-          {"reason", p.reason ? json(*p.reason) : json(nullptr)},
-          {"started_at", p.started_at},
-          {"finished_at", p.finished_at ? json(*p.finished_at) : json(nullptr)},
-          // What a restart or a pulled cable leaves: where `POST …/print {"resume": id}` goes on from.
-          {"resumable", (p.state == PrintState::failed || p.state == PrintState::interrupted) &&
-                            p.confirmed > 0 && p.confirmed < p.total}};
+  return {
+      {"id", p.id},
+      {"job", p.job_id ? json(*p.job_id) : json(nullptr)},
+      {"file", p.filename},
+      {"state", to_string(p.state)},
+      {"confirmed", p.confirmed},
+      {"total", p.total},
+      {"progress", p.total > 0 ? double(p.confirmed) / double(p.total) : 0.0},
+      {"reason", p.reason ? json(*p.reason) : json(nullptr)},
+      {"started_at", p.started_at},
+      {"finished_at", p.finished_at ? json(*p.finished_at) : json(nullptr)},
+      {"filament_mm", p.filament_mm},
+      {"paused_seconds", p.paused_seconds},
+      // From start to end, and of that the time printing (Moonraker's total and print duration).
+      {"duration", p.finished_at ? json(std::max(0.0, *p.finished_at - p.started_at)) : json(nullptr)},
+      {"print_duration",
+       p.finished_at ? json(std::max(0.0, *p.finished_at - p.started_at - p.paused_seconds)) : json(nullptr)},
+      // What a restart or a pulled cable leaves: where `POST …/print {"resume": id}` goes on from.
+      {"resumable", (p.state == PrintState::failed || p.state == PrintState::interrupted) &&
+                        p.confirmed > 0 && p.confirmed < p.total}};
 }
 
 json printer_status_json(const PrinterStatus& s) {
@@ -55,6 +64,19 @@ json printer_status_json(const PrinterStatus& s) {
           {"temperatures", {{"hotend", temperature_json(s.hotend)}, {"bed", temperature_json(s.bed)}}},
           {"print", print},
           {"last_print", s.last_print ? print_record_json(*s.last_print) : json(nullptr)}};
+}
+
+nlohmann::json print_totals_json(const PrintTotals& t) {
+  return {{"prints", t.prints},
+          {"finished", t.finished},
+          {"cancelled", t.cancelled},
+          {"failed", t.failed},
+          {"interrupted", t.interrupted},
+          {"total_seconds", t.total_seconds},
+          {"print_seconds", t.print_seconds},
+          {"filament_mm", t.filament_mm},
+          {"longest_seconds", t.longest_seconds},
+          {"longest_print_seconds", t.longest_print_seconds}};
 }
 
 nlohmann::json print_queue_json(const std::string& key, const std::vector<QueueEntry>& entries) {

@@ -10,8 +10,12 @@
 
 namespace salient::server {
 
-// id, job, file, state, confirmed, total, progress, reason, started_at, finished_at, resumable.
+// id, job, file, state, confirmed, total, progress, reason, started_at, finished_at, filament_mm,
+// paused_seconds, duration, print_duration (null until ended), resumable.
 nlohmann::json print_record_json(const PrintRecord& p);
+// A history's sums: prints, finished, cancelled, failed, interrupted, total_seconds,
+// print_seconds, filament_mm, longest_seconds, longest_print_seconds.
+nlohmann::json print_totals_json(const PrintTotals& t);
 // id, kind, protocol, profile, state, error, firmware, device, temperatures, print (with
 // elapsed and eta), last_print.
 nlohmann::json printer_status_json(const PrinterStatus& s);

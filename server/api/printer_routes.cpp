@@ -150,16 +150,23 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
                const Printer& printer = printers.get(p.at("id"));
                json list = json::array();
                for (const PrintRecord& r : PrintStore(store.db()).list(printer.id(), 100))
-                 list.push_back({{"id", r.id},
-                                 {"job", r.job_id ? json(*r.job_id) : json(nullptr)},
-                                 {"file", r.filename},
-                                 {"state", to_string(r.state)},
-                                 {"confirmed", r.confirmed},
-                                 {"total", r.total},
-                                 {"reason", r.reason ? json(*r.reason) : json(nullptr)},
-                                 {"started_at", r.started_at},
-                                 {"finished_at", r.finished_at ? json(*r.finished_at) : json(nullptr)}});
+                 list.push_back(print_record_json(r));
                return json_response(200, {{"prints", list}});
+             });
+  // The history in sums (Moonraker's history totals): per printer, and the farm's with each printer's.
+  router.add("GET", "/api/v1/printers/{id}/history/totals", Access::key,
+             [&printers, &store](const HttpRequest&, const PathParams& p) {
+               const Printer& printer = printers.get(p.at("id"));
+               return json_response(200, print_totals_json(PrintStore(store.db()).totals(printer.id())));
+             });
+  router.add("GET", "/api/v1/history/totals", Access::key,
+             [&printers, &store](const HttpRequest&, const PathParams&) {
+               PrintStore prints(store.db());
+               json out = print_totals_json(prints.totals(""));
+               out["printers"] = json::object();
+               for (const auto& printer : printers.all())
+                 out["printers"][printer->id()] = print_totals_json(prints.totals(printer->id()));
+               return json_response(200, out);
              });
   // The last half hour of temperatures, for a chart: columns, then one row per sample (at most
   // one a second); null where the printer had not reported a value.

@@ -120,6 +120,8 @@ PrinterStatus Printer::status_locked() const {
     p.record.state = state_ == PrinterState::paused ? PrintState::paused : PrintState::printing;
     p.record.confirmed = current_->confirmed;
     p.record.total = current_->total;
+    const PrintUsage usage = current_->usage();
+    p.record.filament_mm = usage.filament_mm, p.record.paused_seconds = usage.paused_seconds;
     p.elapsed = std::chrono::duration<double>(Clock::now() - current_->started).count();
     p.file_bytes = current_->file_bytes;
     p.filepos = p.file_bytes;
@@ -190,6 +192,8 @@ long long Printer::start_print(const PrintRequest& request) {
           .create(config_.id, request.job_id, request.file_digest, request.filename, c.total, now_seconds());
   c.confirmed = static_cast<long long>(request.resume_from);
   c.started = Clock::now();
+  c.extruded.emplace(*program);              // the program is held by c.program as long as c lives
+  c.extruded->skip_to(request.resume_from);  // a resumed print counts what it pushes itself
   queue_.push(PrintCommand{request, c.record.id, std::move(program)});
   cancel_requested_ = pause_pending_ = false;
   current_ = c;
@@ -206,6 +210,7 @@ void Printer::pause() {
       link_->pause();
     else
       pause_pending_ = true;
+    if (current_) current_->paused_since = Clock::now();
     enter(PrinterState::paused);
   }
   notify(false);
@@ -219,6 +224,11 @@ void Printer::resume() {
       link_->resume();
     else
       pause_pending_ = false;
+    if (current_ && current_->paused_since) {
+      current_->paused_seconds +=
+          std::chrono::duration<double>(Clock::now() - *current_->paused_since).count();
+      current_->paused_since.reset();
+    }
     enter(PrinterState::printing);
   }
   notify(false);
@@ -240,6 +250,12 @@ void Printer::cancel() {
   notify(false);
 }
 
+PrintUsage Printer::Current::usage() const {
+  PrintUsage u{extruded ? extruded->extruded_mm() : 0, paused_seconds};
+  if (paused_since) u.paused_seconds += std::chrono::duration<double>(Clock::now() - *paused_since).count();
+  return u;
+}
+
 void Printer::drop_waiting_print() {
   queue_.take_print();
   pause_pending_ = false;
@@ -249,7 +265,8 @@ void Printer::drop_waiting_print() {
   record.state = PrintState::cancelled, record.confirmed = current_->confirmed;
   record.reason = "cancelled before it began";
   try {
-    PrintStore(store_.db()).finish(record.id, record.state, record.confirmed, record.reason, now_seconds());
+    PrintStore(store_.db())
+        .finish(record.id, record.state, record.confirmed, record.reason, now_seconds(), current_->usage());
     if (auto stored = PrintStore(store_.db()).get(record.id)) record = *stored;
   } catch (const StoreError&) {  // a full disk: the outcome is kept in memory
   }

@@ -36,6 +36,7 @@
 #include <thread>
 #include <vector>
 
+#include "protocol/marlin/extrusion_counter.hpp"
 #include "server/config/daemon_config.hpp"
 #include "server/printers/command_queue.hpp"
 #include "server/printers/printer_status.hpp"
@@ -152,8 +153,12 @@ class Printer {
     PrintRecord record;
     std::chrono::steady_clock::time_point started;
     long long confirmed = 0, total = 0;
-    std::size_t file_bytes = 0;                        // the file's size
-    std::shared_ptr<const protocol::Program> program;  // for the layer and byte under way
+    std::size_t file_bytes = 0;                                  // the file's size
+    std::shared_ptr<const protocol::Program> program;            // for the layer and byte under way
+    std::optional<protocol::marlin::ExtrusionCounter> extruded;  // over *program, to `confirmed`
+    std::optional<std::chrono::steady_clock::time_point> paused_since;
+    double paused_seconds = 0;  // pauses ended
+    PrintUsage usage() const;
   };
   std::optional<Current> current_;
   std::optional<PrintRecord> last_;

@@ -163,6 +163,7 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
   bool tell = false, save = false, finishing = false;
   long long print_id = 0, confirmed = 0;
   PrintState state = PrintState::printing;
+  PrintUsage usage;
   {
     std::lock_guard lock(mutex_);
     if (e.kind == Kind::temperatures) {
@@ -173,6 +174,7 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
       tell = true;
     } else if (e.kind == Kind::progress && current_ && print_streaming_) {  // not a console batch's
       current_->confirmed = static_cast<long long>(e.done);
+      current_->extruded->advance_to(e.done);
       tell = true;
       // The last command is confirmed: the file is done, what is left is recording the print.
       if (state_ == PrinterState::printing && current_->confirmed >= current_->total) {
@@ -182,7 +184,7 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
       // Saved at most every 20 ms: a kill -9 repeats at most that much of the print on resume.
       if (Clock::now() - throttle.last_save >= std::chrono::milliseconds(20)) {
         save = true, throttle.last_save = Clock::now();
-        print_id = current_->record.id, confirmed = current_->confirmed;
+        print_id = current_->record.id, confirmed = current_->confirmed, usage = current_->usage();
         state = state_ == PrinterState::paused ? PrintState::paused : PrintState::printing;
       }
     }
@@ -195,7 +197,7 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
   }
   if (save && Clock::now() >= throttle.saves_paused_until) {
     try {
-      PrintStore(store_.db()).set_progress(print_id, state, confirmed);
+      PrintStore(store_.db()).set_progress(print_id, state, confirmed, usage);
     } catch (const StoreError&) {
       // A full disk must not stop the print: progress writes pause, and are tried again later.
       throttle.saves_paused_until = Clock::now() + std::chrono::seconds(5);
@@ -249,10 +251,19 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
   }
   const std::optional<std::string> reason =
       result.reason.empty() ? std::nullopt : std::optional<std::string>(result.reason);
+  PrintUsage usage;
+  {
+    std::lock_guard lock(mutex_);
+    if (current_) {  // the link's count is the last word on what was confirmed
+      current_->extruded->advance_to(result.confirmed);
+      usage = current_->usage();
+    }
+  }
   PrintStore prints(store_.db());
   std::optional<PrintRecord> record;
   try {
-    prints.finish(print.print_id, state, static_cast<long long>(result.confirmed), reason, now_seconds());
+    prints.finish(print.print_id, state, static_cast<long long>(result.confirmed), reason, now_seconds(),
+                  usage);
     record = prints.get(print.print_id);
   } catch (const StoreError&) {  // a full disk: the outcome is kept in memory; the row says "printing"
   }
@@ -260,6 +271,7 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
     std::lock_guard lock(mutex_);
     if (!record && current_) {
       record = current_->record;
+      record->filament_mm = usage.filament_mm, record->paused_seconds = usage.paused_seconds;
       record->state = state, record->confirmed = static_cast<long long>(result.confirmed),
       record->reason = reason;
     }

@@ -101,6 +101,12 @@ CREATE TABLE settings (
   updated_at REAL NOT NULL
 );
 )sql",
+    // 6: what each print used, for the history and its totals (Moonraker's filament_used and
+    // print_duration): filament pushed up to the last confirmed command, and time spent paused.
+    R"sql(
+ALTER TABLE prints ADD COLUMN filament_mm REAL NOT NULL DEFAULT 0;
+ALTER TABLE prints ADD COLUMN paused_seconds REAL NOT NULL DEFAULT 0;
+)sql",
 };
 
 }  // namespace

@@ -4,7 +4,9 @@ namespace salient::server {
 namespace {
 
 constexpr const char* columns =
-    "id, printer_id, job_id, file_digest, filename, state, confirmed, total, reason, started_at, finished_at";
+    "id, printer_id, job_id, file_digest, filename, state, confirmed, total, reason, started_at, "
+    "finished_at, "
+    "filament_mm, paused_seconds";
 
 PrintRecord read_print(const Database::Statement& q) {
   PrintRecord p;
@@ -19,6 +21,8 @@ PrintRecord read_print(const Database::Statement& q) {
   if (!q.null(8)) p.reason = q.text(8);
   p.started_at = q.real(9);
   if (!q.null(10)) p.finished_at = q.real(10);
+  p.filament_mm = q.real(11);
+  p.paused_seconds = q.real(12);
   return p;
 }
 
@@ -50,23 +54,61 @@ PrintRecord PrintStore::create(const std::string& printer_id, const std::optiona
   return *get(db_.last_insert_id());
 }
 
-void PrintStore::set_progress(long long id, PrintState state, long long confirmed) {
-  db_.prepare("UPDATE prints SET state = ?, confirmed = ? WHERE id = ? AND finished_at IS NULL")
+void PrintStore::set_progress(long long id, PrintState state, long long confirmed, PrintUsage usage) {
+  db_.prepare(
+         "UPDATE prints SET state = ?, confirmed = ?, filament_mm = ?, paused_seconds = ? "
+         "WHERE id = ? AND finished_at IS NULL")
       .bind(1, to_string(state))
       .bind(2, static_cast<std::int64_t>(confirmed))
-      .bind(3, static_cast<std::int64_t>(id))
+      .bind(3, usage.filament_mm)
+      .bind(4, usage.paused_seconds)
+      .bind(5, static_cast<std::int64_t>(id))
       .run();
 }
 
 void PrintStore::finish(long long id, PrintState state, long long confirmed,
-                        const std::optional<std::string>& reason, double now) {
-  db_.prepare("UPDATE prints SET state = ?, confirmed = ?, reason = ?, finished_at = ? WHERE id = ?")
+                        const std::optional<std::string>& reason, double now, PrintUsage usage) {
+  db_.prepare(
+         "UPDATE prints SET state = ?, confirmed = ?, reason = ?, finished_at = ?, filament_mm = ?, "
+         "paused_seconds = ? WHERE id = ?")
       .bind(1, to_string(state))
       .bind(2, static_cast<std::int64_t>(confirmed))
       .bind(3, reason)
       .bind(4, now)
-      .bind(5, static_cast<std::int64_t>(id))
+      .bind(5, usage.filament_mm)
+      .bind(6, usage.paused_seconds)
+      .bind(7, static_cast<std::int64_t>(id))
       .run();
+}
+
+PrintTotals PrintStore::totals(const std::string& printer_id) {
+  // Durations from start to end, never negative (a clock set back); CASE rather than two-argument
+  // max(), which PostgreSQL spells otherwise.
+  const std::string total = "CASE WHEN finished_at > started_at THEN finished_at - started_at ELSE 0 END";
+  const std::string printing =
+      "CASE WHEN finished_at - started_at > paused_seconds THEN finished_at - started_at - paused_seconds "
+      "ELSE 0 END";
+  auto q = db_.prepare(
+      "SELECT count(*), "
+      "count(CASE WHEN state = 'finished' THEN 1 END), count(CASE WHEN state = 'cancelled' THEN 1 END), "
+      "count(CASE WHEN state = 'failed' THEN 1 END), count(CASE WHEN state = 'interrupted' THEN 1 END), "
+      "coalesce(sum(" +
+      total + "), 0), coalesce(sum(" + printing +
+      "), 0), coalesce(sum(filament_mm), 0), "
+      "coalesce(max(" +
+      total + "), 0), coalesce(max(" + printing +
+      "), 0) "
+      "FROM prints WHERE finished_at IS NOT NULL AND (?1 = '' OR printer_id = ?1)");
+  q.bind(1, std::string_view(printer_id));
+  PrintTotals t;
+  if (q.step()) {
+    t.prints = q.integer(0), t.finished = q.integer(1), t.cancelled = q.integer(2);
+    t.failed = q.integer(3), t.interrupted = q.integer(4);
+    t.total_seconds = q.real(5), t.print_seconds = q.real(6), t.filament_mm = q.real(7);
+    t.longest_seconds = q.real(8), t.longest_print_seconds = q.real(9);
+  }
+  q.run();
+  return t;
 }
 
 std::optional<PrintRecord> PrintStore::get(long long id) {

@@ -22,6 +22,21 @@ struct PrintRecord {
   std::optional<std::string> reason;
   double started_at = 0;
   std::optional<double> finished_at;
+  double filament_mm = 0;     // pushed up to the last confirmed command (net of retractions)
+  double paused_seconds = 0;  // of the time from start to end
+};
+
+// What a print used so far, written with its progress.
+struct PrintUsage {
+  double filament_mm = 0, paused_seconds = 0;
+};
+
+// A printer's (or the farm's) history in sums, as Moonraker's history totals: every print ended,
+// the time from start to end and the time printing (pauses left out), the filament, the longest.
+struct PrintTotals {
+  long long prints = 0, finished = 0, cancelled = 0, failed = 0, interrupted = 0;
+  double total_seconds = 0, print_seconds = 0, filament_mm = 0;
+  double longest_seconds = 0, longest_print_seconds = 0;
 };
 
 // An uploaded file; `name` is its path in the file area ("a/b/c.gcode", "c.gcode" at the top).
@@ -37,12 +52,14 @@ class PrintStore {
 
   PrintRecord create(const std::string& printer_id, const std::optional<std::string>& job_id,
                      const std::string& digest, const std::string& filename, long long total, double now);
-  void set_progress(long long id, PrintState state, long long confirmed);
+  void set_progress(long long id, PrintState state, long long confirmed, PrintUsage usage);
   void finish(long long id, PrintState state, long long confirmed, const std::optional<std::string>& reason,
-              double now);
+              double now, PrintUsage usage);
   std::optional<PrintRecord> get(long long id);
   std::optional<PrintRecord> latest(const std::string& printer_id);
   std::vector<PrintRecord> list(const std::string& printer_id, int limit);
+  // The ended prints of one printer, or of all when `printer_id` is empty.
+  PrintTotals totals(const std::string& printer_id);
   // At start: prints that were running when the daemon died; returns how many.
   int mark_interrupted(double now);
 
