@@ -5,31 +5,37 @@
 #include <filesystem>
 
 #include "tests/support/scratch_dir.hpp"
+#include "tests/support/test_database.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::server;
+using salient::test::test_database;
 
-TEST_CASE("a new database is migrated to the latest schema, in WAL mode") {
+TEST_CASE("a new database is migrated to the latest schema (SQLite: in WAL mode)") {
   const salient::test::ScratchDir scratch("new");
-  const fs::path& dir = scratch.path;
-  Database db(dir / "salient.db");
+  Database db(test_database(scratch));
   CHECK(db.schema_version() == Database::latest_schema_version());
-  auto mode = db.prepare("PRAGMA journal_mode");
-  REQUIRE(mode.step());
-  CHECK(mode.text(0) == "wal");
-  for (const char* table : {"jobs", "prints", "printers", "api_keys"}) {
-    auto q = db.prepare("SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?");
+  if (db.dialect() == Dialect::sqlite) {
+    auto mode = db.prepare("PRAGMA journal_mode");
+    REQUIRE(mode.step());
+    CHECK(mode.text(0) == "wal");
+  }
+  const char* tables = db.dialect() == Dialect::sqlite
+                           ? "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name = ?"
+                           : "SELECT count(*) FROM information_schema.tables WHERE table_name = ?";
+  for (const char* table :
+       {"jobs", "prints", "printers", "api_keys", "files", "print_queue", "users", "folders", "settings"}) {
+    auto q = db.prepare(tables);
     q.bind(1, std::string_view(table));
     REQUIRE(q.step());
-    CHECK(q.integer(0) == 1);
+    CHECK_MESSAGE(q.integer(0) == 1, table);
   }
 }
 
 TEST_CASE("rows survive reopening, constraints hold, transactions roll back unless committed") {
   const salient::test::ScratchDir scratch("rows");
-  const fs::path& dir = scratch.path;
   {
-    Database db(dir / "salient.db");
+    Database db(test_database(scratch));
     db.prepare(
           "INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
           "VALUES (?, 'queued', 'bunny.obj', 'm', '{}', 's', 1.5)")
@@ -46,7 +52,7 @@ TEST_CASE("rows survive reopening, constraints hold, transactions roll back unle
       db.exec("UPDATE jobs SET state = 'running'");
     }  // no commit: rolled back
   }
-  Database again(dir / "salient.db");
+  Database again(test_database(scratch));
   CHECK(again.schema_version() == Database::latest_schema_version());
   auto q = again.prepare("SELECT id, state, filename, created_at, error FROM jobs");
   REQUIRE(q.step());
@@ -59,12 +65,78 @@ TEST_CASE("rows survive reopening, constraints hold, transactions roll back unle
 
 TEST_CASE("a database from a newer salientd is refused with a reason, and bad SQL names itself") {
   const salient::test::ScratchDir scratch("newer");
-  const fs::path& dir = scratch.path;
   {
-    Database db(dir / "salient.db");
-    db.exec("PRAGMA user_version = 99");
-    CHECK_THROWS_WITH_AS(db.prepare("SELEKT 1"), doctest::Contains("SQL error in \"SELEKT 1\""), StoreError);
+    Database db(test_database(scratch));
+    db.exec(db.dialect() == Dialect::sqlite ? "PRAGMA user_version = 99"
+                                            : "UPDATE salient_schema SET version = 99");
+    if (db.dialect() == Dialect::sqlite)  // PostgreSQL parses a statement when it runs it
+      CHECK_THROWS_WITH_AS(db.prepare("SELEKT 1"), doctest::Contains("SQL error in \"SELEKT 1\""),
+                           StoreError);
+    CHECK_THROWS_WITH_AS(db.prepare("SELEKT 1").run(), doctest::Contains("SELEKT"), StoreError);
   }
-  CHECK_THROWS_WITH_AS(Database(dir / "salient.db"), doctest::Contains("newer than this salientd"),
+  CHECK_THROWS_WITH_AS(Database(test_database(scratch)), doctest::Contains("newer than this salientd"),
                        StoreError);
+}
+
+TEST_CASE("one SQL for both backends: ? and ?N placeholders, quotes left alone, RETURNING, changes") {
+  const salient::test::ScratchDir scratch("portable");
+  Database db(test_database(scratch));
+  auto q = db.prepare("SELECT ?2 || ?1, '?' || ?1, \"user\" FROM (SELECT 'x' AS \"user\") AS t");
+  q.bind(1, std::string_view("a")).bind(2, std::string_view("b"));
+  REQUIRE(q.step());
+  CHECK(q.text(0) == "ba");
+  CHECK(q.text(1) == "?a");
+  CHECK(q.text(2) == "x");
+  CHECK_FALSE(q.step());
+  auto insert =
+      db.prepare("INSERT INTO printers (id, config, updated_at) VALUES (?, ?, ?) RETURNING id, updated_at");
+  insert.bind(1, std::string_view("p1")).bind(2, std::string_view("{}")).bind(3, 1.25);
+  REQUIRE(insert.step());
+  CHECK(insert.text(0) == "p1");
+  CHECK(insert.real(1) == 1.25);
+  insert.run();
+  db.prepare("UPDATE printers SET updated_at = ? WHERE id = ?")
+      .bind(1, std::int64_t{7})
+      .bind(2, std::string_view("p1"))
+      .run();
+  CHECK(db.changes() == 1);
+  // A statement runs again with its bindings, as a SQLite statement does after its reset.
+  auto count = db.prepare("SELECT count(*), max(updated_at) FROM printers WHERE id = ?");
+  count.bind(1, std::string_view("p1"));
+  for (int i = 0; i < 2; ++i) {
+    REQUIRE(count.step());
+    CHECK(count.integer(0) == 1);
+    CHECK(count.real(1) == 7);
+    CHECK_FALSE(count.step());
+  }
+}
+
+TEST_CASE("bytes of every value round-trip through a blob, and a 64-bit integer intact") {
+  const salient::test::ScratchDir scratch("blob");
+  Database db(test_database(scratch));
+  std::string bytes;
+  for (int i = 0; i < 512; ++i) bytes += static_cast<char>(i & 0xff);
+  auto q = db.prepare("SELECT ?, ?");
+  q.bind_blob(1, bytes).bind(2, std::int64_t{9007199254740993});  // 2^53 + 1: no double holds it
+  REQUIRE(q.step());
+  CHECK(q.blob(0) == bytes);
+  CHECK(q.integer(1) == 9007199254740993);
+}
+
+TEST_CASE("store URLs choose the backend, and a bad one is refused with a reason") {
+  CHECK(DatabaseUrl::parse("var/salient.db").dialect == Dialect::sqlite);
+  CHECK(DatabaseUrl::parse("var/salient.db").target == "var/salient.db");
+  CHECK(DatabaseUrl::parse("sqlite:/srv/s.db").target == "/srv/s.db");
+  CHECK(DatabaseUrl::parse("sqlite:///srv/s.db").target == "/srv/s.db");
+  const DatabaseUrl pg = DatabaseUrl::parse("postgresql://salient:secret@db.farm:5432/salient");
+  CHECK(pg.dialect == Dialect::postgresql);
+  CHECK(pg.target == "postgresql://salient:secret@db.farm:5432/salient");
+  CHECK(pg.redacted() == "postgresql://salient:***@db.farm:5432/salient");
+  CHECK(DatabaseUrl::parse("postgres://db/salient").dialect == Dialect::postgresql);
+  CHECK_THROWS_WITH_AS(DatabaseUrl::parse("mysql://db/salient"),
+                       doctest::Contains("unknown database URL scheme 'mysql'"), StoreError);
+  CHECK_THROWS_AS(DatabaseUrl::parse(""), StoreError);
+  CHECK_THROWS_AS(DatabaseUrl::parse("sqlite:"), StoreError);
+  CHECK_THROWS_WITH_AS(Database(DatabaseUrl::parse("postgresql://127.0.0.1:1/nothing?connect_timeout=2")),
+                       doctest::Contains("PostgreSQL: cannot connect"), StoreError);
 }
