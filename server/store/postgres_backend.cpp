@@ -1,11 +1,12 @@
-// The PostgreSQL backend (libpq). Each statement is one round trip (PQexecParams: parse, bind and
-// execute together), as a SQLite step is none; results come in text format and are converted on
-// reading. The schema version lives in a table, salient_schema; writers that SQLite would
-// serialise with BEGIN IMMEDIATE are serialised here by a transaction-scoped advisory lock.
+// The PostgreSQL backend (libpq). Each statement is one round trip (a prepared statement's bind
+// and execute; the prepare once per connection), where a SQLite step is none; results come in
+// text format and are converted on reading. The schema version lives in a table, salient_schema; writers that
+// SQLite would serialise with BEGIN IMMEDIATE are serialised here by a transaction-scoped advisory lock.
 #include <libpq-fe.h>
 
 #include <cstdlib>
 #include <cstring>
+#include <unordered_map>
 #include <vector>
 
 #include "server/store/database_backend.hpp"
@@ -32,13 +33,6 @@ using Result = std::unique_ptr<PGresult, ResultDeleter>;
   // 53100 disk_full, 53200 out_of_memory…: class 53 is "insufficient resources".
   const bool full = state && std::strcmp(state, "53100") == 0;
   throw StoreError(std::string(what) + message, full);
-}
-
-Result checked(PGconn* conn, PGresult* raw, std::string_view what) {
-  Result r(raw);
-  const ExecStatusType status = r ? PQresultStatus(r.get()) : PGRES_FATAL_ERROR;
-  if (status != PGRES_COMMAND_OK && status != PGRES_TUPLES_OK) fail(conn, r.get(), what);
-  return r;
 }
 
 // "?" and "?N" (SQLite's) become "$N" (PostgreSQL's); a bare "?" takes the next number after the
@@ -75,14 +69,46 @@ int hex_value(char c) {
   return c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10;
 }
 
+// One connection and what lives with it: the statements it has prepared (each SQL text, with its
+// parameter types, is parsed and planned once per connection; later runs send only the values, in
+// the same one round trip), and the rows the last write touched.
 struct Connection {
   PGconn* conn = nullptr;
   int changes = 0;
+  std::unordered_map<std::string, std::string> prepared;  // SQL and parameter types → name
+
   void note_changes(const PGresult* r) {
     const char* status = PQcmdStatus(const_cast<PGresult*>(r));
     if (std::strncmp(status, "INSERT", 6) == 0 || std::strncmp(status, "UPDATE", 6) == 0 ||
         std::strncmp(status, "DELETE", 6) == 0)
       changes = std::atoi(PQcmdTuples(const_cast<PGresult*>(r)));
+  }
+
+  // After a failure: a connection that broke (a restarted server, a terminated backend) is
+  // reconnected for the next statement. The failed one is not run again: it may have committed.
+  Result checked(PGresult* raw, std::string_view what) {
+    Result r(raw);
+    const ExecStatusType status = r ? PQresultStatus(r.get()) : PGRES_FATAL_ERROR;
+    if (status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK) return r;
+    if (PQstatus(conn) == CONNECTION_BAD) {
+      prepared.clear();  // they went with the old session
+      PQreset(conn);
+    }
+    fail(conn, r.get(), what);
+  }
+
+  Result execute(const std::string& sql, int n, const Oid* types, const char* const* values,
+                 const int* lengths, const int* formats) {
+    std::string key = sql;
+    key.append(reinterpret_cast<const char*>(types), sizeof(Oid) * static_cast<std::size_t>(n));
+    auto it = prepared.find(key);
+    if (it == prepared.end()) {
+      std::string name = "s";  // appended: GCC 12 warns falsely (-Wrestrict) on "s" + …
+      name += std::to_string(prepared.size());
+      checked(PQprepare(conn, name.c_str(), sql.c_str(), n, types), "PostgreSQL: ");
+      it = prepared.emplace(std::move(key), std::move(name)).first;
+    }
+    return checked(PQexecPrepared(conn, it->second.c_str(), n, values, lengths, formats, 0), "PostgreSQL: ");
   }
 };
 
@@ -164,10 +190,8 @@ class PostgresStatement final : public StatementBackend {
       lengths[k] = static_cast<int>(params_[k].value.size());
       formats[k] = params_[k].binary ? 1 : 0;
     }
-    result_ = checked(c_.conn,
-                      PQexecParams(c_.conn, sql_.c_str(), static_cast<int>(n), types.data(), values.data(),
-                                   lengths.data(), formats.data(), 0),
-                      "PostgreSQL: ");
+    result_ =
+        c_.execute(sql_, static_cast<int>(n), types.data(), values.data(), lengths.data(), formats.data());
     c_.note_changes(result_.get());
   }
 
@@ -213,7 +237,7 @@ class PostgresBackend final : public DatabaseBackend {
   }
 
   void exec(std::string_view sql) override {
-    Result r = checked(c_.conn, PQexec(c_.conn, std::string(sql).c_str()), "PostgreSQL: ");
+    Result r = c_.checked(PQexec(c_.conn, std::string(sql).c_str()), "PostgreSQL: ");
     c_.note_changes(r.get());
     // A failed statement inside a transaction block leaves it aborted: ROLLBACK is what follows.
   }

@@ -140,3 +140,24 @@ TEST_CASE("store URLs choose the backend, and a bad one is refused with a reason
   CHECK_THROWS_WITH_AS(Database(DatabaseUrl::parse("postgresql://127.0.0.1:1/nothing?connect_timeout=2")),
                        doctest::Contains("PostgreSQL: cannot connect"), StoreError);
 }
+
+TEST_CASE("a PostgreSQL connection that breaks fails its statement, then reconnects for the next") {
+  if (!salient::test::on_postgresql()) {
+    MESSAGE("PostgreSQL only: runs in server_store_pg_tests");
+    return;
+  }
+  const salient::test::ScratchDir scratch("reconnect");
+  Database db(test_database(scratch)), other(test_database(scratch));
+  auto count = db.prepare("SELECT count(*) FROM jobs WHERE state = ?");
+  count.bind(1, std::string_view("queued"));
+  REQUIRE(count.step());  // prepared on this connection
+  count.run();
+  auto pid = db.prepare("SELECT pg_backend_pid()");
+  REQUIRE(pid.step());
+  const std::int64_t backend = pid.integer(0);
+  pid.run();
+  other.prepare("SELECT pg_terminate_backend(CAST(? AS INTEGER))").bind(1, backend).run();
+  CHECK_THROWS_AS(count.step(), StoreError);  // not run again: it might have been a write that committed
+  REQUIRE(count.step());                      // a new session, where it is prepared again
+  CHECK(count.integer(0) == 0);
+}
