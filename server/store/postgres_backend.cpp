@@ -142,6 +142,7 @@ class PostgresStatement final : public StatementBackend {
 
   std::int64_t integer(int c) const override {
     const char* v = value(c);
+    if (v[0] == 't' || v[0] == 'f') return v[0] == 't';  // a boolean ("x IS NULL"), 1 or 0 as in SQLite
     char* end = nullptr;
     const long long n = std::strtoll(v, &end, 10);
     return *end == '\0' ? n : static_cast<std::int64_t>(std::strtod(v, nullptr));  // a REAL read as integer

@@ -5,6 +5,7 @@
 #          to DIR/url; tests add /DBNAME. Exits 77 with the reason in DIR/skip if the postgresql
 #          package is missing.
 #   stop:  stop the cluster DIR names and remove it.
+# SALIENT_PG_BIN: the server's bin directory (default: the newest /usr/lib/postgresql/*/bin).
 # PostgreSQL refuses to run as root (CI's user), so as root the cluster is run by `nobody`.
 set -euo pipefail
 command=${1:?start or stop}
@@ -30,7 +31,7 @@ case "$command" in
   start)
     stop  # one left by an interrupted run
     rm -f "$dir/skip" "$dir/url"
-    bin=$(ls -d /usr/lib/postgresql/*/bin 2>/dev/null | sort -V | tail -n 1)
+    bin=${SALIENT_PG_BIN:-$(ls -d /usr/lib/postgresql/*/bin 2>/dev/null | sort -V | tail -n 1)}
     if [[ -z "$bin" || ! -x "$bin/initdb" || ! -x "$bin/pg_ctl" ]]; then
       echo "the postgresql package is missing (no /usr/lib/postgresql/*/bin/initdb): apt-get install postgresql" |
         tee "$dir/skip"

@@ -111,16 +111,19 @@ TEST_CASE("one SQL for both backends: ? and ?N placeholders, quotes left alone, 
   }
 }
 
-TEST_CASE("bytes of every value round-trip through a blob, and a 64-bit integer intact") {
+TEST_CASE("bytes of every value round-trip through a blob, a 64-bit integer intact, truth as 1 and 0") {
   const salient::test::ScratchDir scratch("blob");
   Database db(test_database(scratch));
   std::string bytes;
   for (int i = 0; i < 512; ++i) bytes += static_cast<char>(i & 0xff);
-  auto q = db.prepare("SELECT ?, ?");
+  auto q = db.prepare("SELECT ?, ?, 2.5, 1 = 1, 1 = 0");
   q.bind_blob(1, bytes).bind(2, std::int64_t{9007199254740993});  // 2^53 + 1: no double holds it
   REQUIRE(q.step());
   CHECK(q.blob(0) == bytes);
   CHECK(q.integer(1) == 9007199254740993);
+  CHECK(q.integer(2) == 2);  // a real read as an integer is cut, as SQLite does
+  CHECK(q.integer(3) == 1);  // a truth value is 1 or 0
+  CHECK(q.integer(4) == 0);
 }
 
 TEST_CASE("store URLs choose the backend, and a bad one is refused with a reason") {
