@@ -81,6 +81,9 @@ std::int64_t Database::last_insert_id() const {
 int Database::changes() const {
   return backend_->changes();
 }
+bool Database::in_transaction() const {
+  return backend_->in_transaction();
+}
 int Database::schema_version() const {
   return backend_->schema_version();
 }

@@ -62,6 +62,7 @@ class Database {
   // Prefer "INSERT … RETURNING id": on PostgreSQL this costs a round trip more.
   std::int64_t last_insert_id() const;
   int changes() const;  // rows the last INSERT/UPDATE/DELETE touched
+  bool in_transaction() const;
   int schema_version() const;
   static int latest_schema_version();
 

@@ -38,6 +38,7 @@ class DatabaseBackend {
   virtual void exec(std::string_view sql) = 0;  // one or more statements, no parameters
   virtual std::int64_t last_insert_id() = 0;
   virtual int changes() const = 0;
+  virtual bool in_transaction() const = 0;
   virtual int schema_version() = 0;
   virtual void set_schema_version(int version) = 0;  // inside the migration's transaction
   // A write transaction that excludes other writers, as SQLite's BEGIN IMMEDIATE does.

@@ -20,7 +20,8 @@ void DatabaseBlobs::upload(std::string_view digest, const std::filesystem::path&
   std::ifstream in(file, std::ios::binary);
   if (!in) throw StoreError("cannot read " + file.string() + " to store it");
   Database& db = db_();
-  db.exec("BEGIN");
+  const bool own = !db.in_transaction();  // inside a caller's transaction: part of it
+  if (own) db.exec("BEGIN");
   try {
     auto q = db.prepare("INSERT INTO blobs (digest, chunk_no, data) VALUES (?, ?, ?) ON CONFLICT DO NOTHING");
     std::vector<char> buffer(chunk_bytes);
@@ -32,11 +33,13 @@ void DatabaseBlobs::upload(std::string_view digest, const std::filesystem::path&
       q.bind(1, digest).bind(2, chunk++).bind_blob(3, std::string_view(buffer.data(), n)).run();
     } while (in);
     if (in.bad()) throw StoreError("cannot read " + file.string() + " to store it");
-    db.exec("COMMIT");
+    if (own) db.exec("COMMIT");
   } catch (...) {
-    try {
-      db.exec("ROLLBACK");
-    } catch (...) {
+    if (own) {
+      try {
+        db.exec("ROLLBACK");
+      } catch (...) {
+      }
     }
     throw;
   }

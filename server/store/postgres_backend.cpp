@@ -249,6 +249,7 @@ class PostgresBackend final : public DatabaseBackend {
     return q->step() ? q->integer(0) : 0;
   }
   int changes() const override { return c_.changes; }
+  bool in_transaction() const override { return PQtransactionStatus(c_.conn) != PQTRANS_IDLE; }
 
   int schema_version() override {
     auto q = prepare("SELECT version FROM salient_schema");

@@ -96,6 +96,7 @@ class SqliteBackend final : public DatabaseBackend {
 
   std::int64_t last_insert_id() override { return sqlite3_last_insert_rowid(db_); }
   int changes() const override { return sqlite3_changes(db_); }
+  bool in_transaction() const override { return sqlite3_get_autocommit(db_) == 0; }
 
   int schema_version() override {
     sqlite3_stmt* stmt = nullptr;

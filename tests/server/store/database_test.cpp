@@ -47,10 +47,13 @@ TEST_CASE("rows survive reopening, constraints hold, transactions roll back unle
               "VALUES ('j2', 'exploded', 'x', 'm', '{}', 's', 1)")
             .run(),
         StoreError);
+    CHECK_FALSE(db.in_transaction());
     {
       Database::Transaction t(db);
+      CHECK(db.in_transaction());
       db.exec("UPDATE jobs SET state = 'running'");
     }  // no commit: rolled back
+    CHECK_FALSE(db.in_transaction());
   }
   Database again(test_database(scratch));
   CHECK(again.schema_version() == Database::latest_schema_version());
