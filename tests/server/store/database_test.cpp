@@ -3,7 +3,9 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <regex>
 
+#include "server/store/migrations.hpp"
 #include "tests/support/scratch_dir.hpp"
 #include "tests/support/test_database.hpp"
 
@@ -166,4 +168,20 @@ TEST_CASE("a PostgreSQL connection that breaks fails its statement, then reconne
   CHECK_THROWS_AS(count.step(), StoreError);  // not run again: it might have been a write that committed
   REQUIRE(count.step());                      // a new session, where it is prepared again
   CHECK(count.integer(0) == 0);
+}
+
+// A migration written with SQLite's words alone would give PostgreSQL 32-bit integers (INTEGER),
+// single-precision times (REAL) or a syntax error (AUTOINCREMENT, strftime): each must use the
+// tokens of migrations.hpp, which this checks.
+TEST_CASE("every migration is in each dialect's words: no token left, no SQLite-only word on PostgreSQL") {
+  const std::regex sqlite_only(R"(\b(INTEGER|REAL|AUTOINCREMENT|strftime|PRAGMA)\b|\buser\b[^"])",
+                               std::regex::icase);
+  REQUIRE(migration_count() == Database::latest_schema_version());
+  for (int i = 0; i < migration_count(); ++i) {
+    for (Dialect d : {Dialect::sqlite, Dialect::postgresql})
+      CHECK_MESSAGE(migration_sql(i, d).find('{') == std::string::npos, "migration ", i + 1);
+    const std::string pg = migration_sql(i, Dialect::postgresql);
+    std::smatch m;
+    CHECK_MESSAGE(!std::regex_search(pg, m, sqlite_only), "migration ", i + 1, ": '", m.str(), "'");
+  }
 }
