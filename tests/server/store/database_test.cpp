@@ -3,9 +3,16 @@
 #include <doctest/doctest.h>
 
 #include <filesystem>
+#include <mutex>
 #include <regex>
+#include <set>
+#include <thread>
+#include <vector>
 
+#include "server/store/job_store.hpp"
 #include "server/store/migrations.hpp"
+#include "server/store/queue_store.hpp"
+#include "server/store/store.hpp"
 #include "tests/support/scratch_dir.hpp"
 #include "tests/support/test_database.hpp"
 
@@ -184,4 +191,36 @@ TEST_CASE("every migration is in each dialect's words: no token left, no SQLite-
     std::smatch m;
     CHECK_MESSAGE(!std::regex_search(pg, m, sqlite_only), "migration ", i + 1, ": '", m.str(), "'");
   }
+}
+
+// Writers on separate connections (a thread each, as the daemon's) wait for each other inside a
+// transaction: SQLite's BEGIN IMMEDIATE, PostgreSQL's advisory lock. Without it, two adds read
+// the same MAX(position) and two workers start the same job.
+TEST_CASE("concurrent writers: queue positions stay unique and each job starts once") {
+  const salient::test::ScratchDir scratch("writers");
+  Store store(scratch.path, test_database(scratch));
+  JobStore setup(store.db());
+  for (int i = 0; i < 40; ++i) setup.create("m.obj", std::to_string(i) + "m", "{}", "s", i);
+  std::mutex mutex;
+  std::vector<std::string> started;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t)
+    threads.emplace_back([&] {
+      QueueStore queue(store.db());
+      JobStore jobs(store.db());
+      for (int i = 0; i < 15; ++i) {
+        queue.add("p", "file", "f.gcode", 1);
+        if (auto j = jobs.start_next(2)) {
+          std::lock_guard lock(mutex);
+          started.push_back(j->id);
+        }
+      }
+    });
+  for (auto& t : threads) t.join();
+  std::set<long long> positions;
+  for (const QueueEntry& e : QueueStore(store.db()).list("p")) positions.insert(e.position);
+  CHECK(positions.size() == 60);
+  CHECK(*positions.rbegin() == 60);
+  CHECK(started.size() == 40);
+  CHECK(std::set<std::string>(started.begin(), started.end()).size() == 40);
 }
