@@ -31,6 +31,9 @@ build_packages=(
   python3-websocket
   # Zeroconf: salientd announces _octoprint._tcp through Avahi when configured; the test browses
   avahi-daemon avahi-utils libavahi-client-dev
+  # the PostgreSQL store backend (salientd --database postgresql://…): libpq to build; the
+  # server (15 in Debian 12) for the store tests, which start a temporary cluster on loopback
+  libpq-dev postgresql
 )
 peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 

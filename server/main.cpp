@@ -67,9 +67,11 @@ void raise_descriptor_limit() {
   setrlimit(RLIMIT_NOFILE, &limit);
 }
 
-int serve(const std::string& config_path, const std::string& data, const std::string& listen) {
+int serve(const std::string& config_path, const std::string& data, const std::string& listen,
+          const std::string& database) {
   DaemonConfig config = config_path.empty() ? default_daemon_config() : load_daemon_config(config_path);
   if (!data.empty()) config.data_dir = data;
+  if (!database.empty()) config.store_url = database;
   if (!listen.empty()) config.listen = listen;
   const std::size_t colon = config.listen.rfind(':');
   if (colon == std::string::npos)
@@ -113,7 +115,9 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   raise_descriptor_limit();
-  Store store(config.data_dir);
+  Store store(config.data_dir,
+              config.store_url.empty() ? std::nullopt : std::optional(DatabaseUrl::parse(config.store_url)),
+              config.store_files);
   const ApiKey key = ensure_api_key(store);
   if (key.created)
     log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
@@ -167,7 +171,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   jobs.start();
   printers.start();
   log_line("salientd " + std::string(version()) + " listening on http://" + http.address + ":" +
-           std::to_string(port) + " data=" + config.data_dir);
+           std::to_string(port) + " data=" + config.data_dir +
+           " database=" + store.database_url().redacted());
   std::atomic<bool> asked{false};
   std::thread watcher([&] {
     g_watcher = pthread_self();
@@ -203,10 +208,12 @@ int serve(const std::string& config_path, const std::string& data, const std::st
 int main(int argc, char** argv) {
   CLI::App app{"salientd: the salient daemon (REST API, job queue, printers)"};
   app.set_version_flag("--version", "salientd " + std::string(version()));
-  std::string config, data, listen;
+  std::string config, data, listen, database;
   app.add_option("--config", config,
                  "TOML configuration (default: the embedded defaults, see config/salientd.toml)");
   app.add_option("--data", data, "Data directory: database, stored files, API key (default: var)");
+  app.add_option("--database", database,
+                 "Store: a SQLite path, sqlite:PATH or postgresql://USER@HOST/DB (default: DATA/salient.db)");
   app.add_option("--listen", listen, "ADDRESS:PORT to serve (default: 127.0.0.1:8080)");
   try {
     app.parse(argc, argv);
@@ -214,7 +221,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   try {
-    return serve(config, data, listen);
+    return serve(config, data, listen, database);
   } catch (const salient::core::InputError& e) {
     std::fprintf(stderr, "salientd: error: %s\n", e.what());
     return 1;

@@ -10,6 +10,7 @@
 #include "core/printer/printer_profile.hpp"
 #include "protocol/s3g/machine.hpp"
 #include "server/printers/sim_process.hpp"
+#include "server/store/database.hpp"  // DatabaseUrl, StoreError
 
 namespace salient::server {
 
@@ -74,6 +75,17 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
     r.integer("workers", c.workers, 1, 64);
     r.integer("queue_limit", c.queue_limit, 1, 100000);
   });
+  core::read_section(top, "store", source, [&](TableReader& r) {
+    r.text("url", c.store_url);
+    r.text("files", c.store_files);
+  });
+  if (!c.store_url.empty()) {
+    try {
+      DatabaseUrl::parse(c.store_url);
+    } catch (const StoreError& e) {
+      throw InputError(source, {}, std::string("'store.url': ") + e.what());
+    }
+  }
   core::read_section(top, "web", source, [&](TableReader& r) { r.text("vendor_dir", c.web_vendor_dir); });
   if (const toml::array* printers = top.array("printers")) {
     c.printers.clear();

@@ -41,6 +41,11 @@ inline PrinterConfig sim_printer() {
 struct DaemonConfig {
   std::string listen = "127.0.0.1:8080";
   std::string data_dir = "var";
+  // [store] url (or salientd --database): the database, a path, sqlite:PATH or postgresql://…;
+  // empty: SQLite in data_dir. With PostgreSQL the files are kept in it too (data_dir holds this
+  // node's cache of them) unless store_files names a directory the nodes share ([store] files).
+  std::string store_url;
+  std::string store_files;
   std::size_t max_upload_bytes = 64u << 20;
   std::size_t max_json_bytes = 256u << 10;
   int max_json_depth = 32;

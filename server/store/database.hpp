@@ -1,6 +1,8 @@
-// Database: SQLite in WAL mode, opened and migrated to the current schema (PRAGMA user_version),
-// with prepared statements. One Database per thread; SQLite's locking arbitrates between them.
-// No SQLite type appears here: the handle lives behind a pointer to an incomplete type.
+// Database: one connection to the store, SQLite or PostgreSQL (DatabaseUrl), opened and migrated
+// to the current schema, with prepared statements. One Database per thread: SQLite's locking, or
+// PostgreSQL's, arbitrates between them. SQL is written once for both: "?"/"?N" placeholders,
+// INSERT … ON CONFLICT, RETURNING; what differs is behind the backend (database_backend.hpp).
+// No SQLite or libpq type appears here.
 #pragma once
 
 #include <cstdint>
@@ -10,9 +12,15 @@
 #include <string>
 #include <string_view>
 
+#include "server/store/database_url.hpp"
 #include "server/store/file_store.hpp"  // StoreError
 
 namespace salient::server {
+
+namespace detail {
+class DatabaseBackend;
+class StatementBackend;
+}  // namespace detail
 
 class Database {
  public:
@@ -25,6 +33,7 @@ class Database {
     Statement& bind(int index, std::int64_t value);
     Statement& bind(int index, double value);
     Statement& bind(int index, std::string_view text);
+    Statement& bind_blob(int index, std::string_view bytes);  // BLOB / BYTEA
     Statement& bind_null(int index);
     Statement& bind(int index, const std::optional<std::string>& text);
     bool step();  // true: a row is ready
@@ -32,28 +41,34 @@ class Database {
     std::int64_t integer(int column) const;
     double real(int column) const;
     std::string text(int column) const;
+    std::string blob(int column) const;
     bool null(int column) const;
 
    private:
     friend class Database;
-    struct Impl;
-    explicit Statement(std::unique_ptr<Impl> impl);
-    std::unique_ptr<Impl> impl_;
+    explicit Statement(std::unique_ptr<detail::StatementBackend> impl);
+    std::unique_ptr<detail::StatementBackend> impl_;
   };
 
-  explicit Database(const std::filesystem::path& file);  // throws StoreError
+  explicit Database(const DatabaseUrl& url);             // throws StoreError
+  explicit Database(const std::filesystem::path& file);  // a SQLite file
   ~Database();
   Database(const Database&) = delete;
   Database& operator=(const Database&) = delete;
 
+  Dialect dialect() const;
   Statement prepare(std::string_view sql);
   void exec(std::string_view sql);
+  // Prefer "INSERT … RETURNING id": on PostgreSQL this costs a round trip more.
   std::int64_t last_insert_id() const;
   int changes() const;  // rows the last INSERT/UPDATE/DELETE touched
+  bool in_transaction() const;
   int schema_version() const;
   static int latest_schema_version();
 
-  // BEGIN IMMEDIATE … COMMIT, rolled back unless commit() was called.
+  // A write transaction, rolled back unless commit() was called. Writers wait for each other
+  // (SQLite: BEGIN IMMEDIATE; PostgreSQL: BEGIN and an advisory lock), so that a read then a
+  // write inside one sees no other writer in between.
   class Transaction {
    public:
     explicit Transaction(Database& db);
@@ -67,8 +82,7 @@ class Database {
 
  private:
   void migrate();
-  struct Handle;
-  std::unique_ptr<Handle> handle_;
+  std::unique_ptr<detail::DatabaseBackend> backend_;
 };
 
 }  // namespace salient::server

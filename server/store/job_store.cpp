@@ -72,7 +72,8 @@ std::optional<Job> JobStore::get(const std::string& id) {
 }
 
 std::vector<Job> JobStore::list(std::optional<JobState> state, int limit, int offset) {
-  auto q = db_.prepare(std::string("SELECT ") + columns + " FROM jobs WHERE (?1 IS NULL OR state = ?1) " +
+  auto q = db_.prepare(std::string("SELECT ") + columns +
+                       " FROM jobs WHERE (CAST(?1 AS TEXT) IS NULL OR state = ?1) " +
                        "ORDER BY created_at DESC, rowid DESC LIMIT ?2 OFFSET ?3");
   if (state)
     q.bind(1, to_string(*state));
@@ -85,7 +86,7 @@ std::vector<Job> JobStore::list(std::optional<JobState> state, int limit, int of
 }
 
 long long JobStore::count(std::optional<JobState> state) {
-  auto q = db_.prepare("SELECT count(*) FROM jobs WHERE (?1 IS NULL OR state = ?1)");
+  auto q = db_.prepare("SELECT count(*) FROM jobs WHERE (CAST(?1 AS TEXT) IS NULL OR state = ?1)");
   if (state)
     q.bind(1, to_string(*state));
   else

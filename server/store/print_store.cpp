@@ -40,18 +40,20 @@ StoredFile read_file(const Database::Statement& q) {
 PrintRecord PrintStore::create(const std::string& printer_id, const std::optional<std::string>& job_id,
                                const std::string& digest, const std::string& filename, long long total,
                                double now) {
-  db_.prepare(
-         "INSERT INTO prints (printer_id, job_id, file_digest, filename, state, confirmed, total, "
-         "started_at) "
-         "VALUES (?, ?, ?, ?, 'printing', 0, ?, ?)")
-      .bind(1, std::string_view(printer_id))
+  auto q = db_.prepare(
+      "INSERT INTO prints (printer_id, job_id, file_digest, filename, state, confirmed, total, "
+      "started_at) "
+      "VALUES (?, ?, ?, ?, 'printing', 0, ?, ?) RETURNING id");
+  q.bind(1, std::string_view(printer_id))
       .bind(2, job_id)
       .bind(3, std::string_view(digest))
       .bind(4, std::string_view(filename))
       .bind(5, static_cast<std::int64_t>(total))
-      .bind(6, now)
-      .run();
-  return *get(db_.last_insert_id());
+      .bind(6, now);
+  q.step();
+  const long long id = q.integer(0);
+  q.run();
+  return *get(id);
 }
 
 void PrintStore::set_progress(long long id, PrintState state, long long confirmed, PrintUsage usage) {

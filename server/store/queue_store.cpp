@@ -16,15 +16,16 @@ QueueEntry read_entry(const Database::Statement& q) {
 QueueEntry QueueStore::add(const std::string& printer_id, const std::string& kind, const std::string& ref,
                            double now) {
   Database::Transaction t(db_);
-  db_.prepare(
-         "INSERT INTO print_queue (printer_id, kind, ref, position, created_at) VALUES (?1, ?2, ?3, "
-         "(SELECT COALESCE(MAX(position), 0) + 1 FROM print_queue WHERE printer_id = ?1), ?4)")
-      .bind(1, std::string_view(printer_id))
+  auto q = db_.prepare(
+      "INSERT INTO print_queue (printer_id, kind, ref, position, created_at) VALUES (?1, ?2, ?3, "
+      "(SELECT COALESCE(MAX(position), 0) + 1 FROM print_queue WHERE printer_id = ?1), ?4) RETURNING id");
+  q.bind(1, std::string_view(printer_id))
       .bind(2, std::string_view(kind))
       .bind(3, std::string_view(ref))
-      .bind(4, now)
-      .run();
-  const long long id = db_.last_insert_id();
+      .bind(4, now);
+  q.step();
+  const long long id = q.integer(0);
+  q.run();
   t.commit();
   return *get(printer_id, id);
 }

@@ -1,9 +1,12 @@
-// Store: the daemon's data directory: the SQLite database (one connection per thread, as SQLite
-// wants) and the content-addressed files.
+// Store: the daemon's data: the database (SQLite in the data directory by default, or the one a
+// DatabaseUrl names; one connection per thread) and the content-addressed files (in the data
+// directory; with PostgreSQL in the database too, the directory then being this node's cache,
+// unless a directory the nodes share is given).
 #pragma once
 
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,7 +17,10 @@ namespace salient::server {
 
 class Store {
  public:
-  explicit Store(const std::filesystem::path& data_dir);  // creates and migrates; throws StoreError
+  // Creates and migrates; throws StoreError. No URL: SQLite, DATA_DIR/salient.db. `shared_files`:
+  // files there (and not in PostgreSQL).
+  explicit Store(const std::filesystem::path& data_dir, std::optional<DatabaseUrl> url = std::nullopt,
+                 const std::filesystem::path& shared_files = {});
 
   Database& db();  // the calling thread's connection
   FileStore& files() { return files_; }
@@ -27,9 +33,11 @@ class Store {
   // the file in between.
   std::mutex& files_mutex() { return files_mutex_; }
   const std::filesystem::path& data_dir() const { return dir_; }
+  const DatabaseUrl& database_url() const { return url_; }
 
  private:
-  std::filesystem::path dir_, db_path_;
+  std::filesystem::path dir_;
+  DatabaseUrl url_;
   FileStore files_;
   std::mutex files_mutex_;
 };

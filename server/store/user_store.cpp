@@ -4,8 +4,8 @@ namespace salient::server {
 namespace {
 
 constexpr const char* key_columns =
-    "SELECT k.id, k.key_digest, k.user, COALESCE(u.role, 'viewer'), k.label, k.created_at "
-    "FROM api_keys k LEFT JOIN users u ON u.name = k.user";
+    "SELECT k.id, k.key_digest, k.\"user\", COALESCE(u.role, 'viewer'), k.label, k.created_at "
+    "FROM api_keys k LEFT JOIN users u ON u.name = k.\"user\"";
 
 KeyRow read_key(const Database::Statement& q) {
   return {q.integer(0), q.text(1), q.text(2), q.text(3), q.text(4), q.real(5)};
@@ -55,13 +55,17 @@ std::optional<KeyRow> UserStore::key(long long id) {
 
 long long UserStore::add_key(const std::string& digest, const std::string& user, const std::string& label,
                              double now) {
-  db_.prepare("INSERT INTO api_keys (key_digest, user, label, created_at) VALUES (?, ?, ?, ?)")
-      .bind(1, std::string_view(digest))
+  // "user" quoted: a reserved word in PostgreSQL (SQLite takes the quotes too).
+  auto q = db_.prepare(
+      "INSERT INTO api_keys (key_digest, \"user\", label, created_at) VALUES (?, ?, ?, ?) RETURNING id");
+  q.bind(1, std::string_view(digest))
       .bind(2, std::string_view(user))
       .bind(3, std::string_view(label))
-      .bind(4, now)
-      .run();
-  return db_.last_insert_id();
+      .bind(4, now);
+  q.step();
+  const long long id = q.integer(0);
+  q.run();
+  return id;
 }
 
 bool UserStore::remove_key(long long id) {
@@ -70,8 +74,8 @@ bool UserStore::remove_key(long long id) {
 }
 
 long long UserStore::admin_keys() {
-  auto q =
-      db_.prepare("SELECT COUNT(*) FROM api_keys k JOIN users u ON u.name = k.user WHERE u.role = 'admin'");
+  auto q = db_.prepare(
+      "SELECT COUNT(*) FROM api_keys k JOIN users u ON u.name = k.\"user\" WHERE u.role = 'admin'");
   q.step();
   const long long n = q.integer(0);
   q.run();

@@ -5,11 +5,12 @@ pid=
 fail() { echo "FAIL: $*"; tail -20 daemon.log; exit 1; }
 field() { python3 -c "import json,sys; d=json.load(sys.stdin); print(eval('d' + sys.argv[1]))" "$1"; }
 
-# start [CONFIG] [DATA]: salientd on a free port; sets $pid, $base, $port and $key.
+# start [CONFIG] [DATA]: salientd on a free port; sets $pid, $base, $port and $key. With $database
+# set, on that store (--database).
 start() {
   local before data=${2:-data}
   before=$(grep -c "listening on" daemon.log 2>/dev/null || true)
-  "$salientd" --data "$data" --listen 127.0.0.1:0 ${1:+--config "$1"} 2>>daemon.log &
+  "$salientd" --data "$data" --listen 127.0.0.1:0 ${1:+--config "$1"} ${database:+--database "$database"} 2>>daemon.log &
   pid=$!
   for _ in $(seq 600); do  # a sanitizer build starts slowly
     [ "$(grep -c "listening on" daemon.log 2>/dev/null || true)" -gt "${before:-0}" ] && break

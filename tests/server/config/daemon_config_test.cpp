@@ -131,3 +131,16 @@ machine = "r2"
   CHECK_THROWS_WITH_AS(parse_daemon_config("[[printers]]\nid = \"a\"\nprotocol = \"x3g\"\n", "d.toml"),
                        "d.toml:1: 'printers.protocol' must be marlin or s3g, got 'x3g'", InputError);
 }
+
+TEST_CASE("the store section names the database and the shared files, else SQLite is in the data dir") {
+  CHECK(default_daemon_config().store_url.empty());
+  CHECK(default_daemon_config().store_files.empty());
+  const DaemonConfig c = parse_daemon_config(
+      "[store]\nurl = \"postgresql://salient@db.farm/salient\"\nfiles = \"/srv/salient-files\"\n", "d.toml");
+  CHECK(c.store_url == "postgresql://salient@db.farm/salient");
+  CHECK(c.store_files == "/srv/salient-files");
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[store]\nurl = \"mysql://db/x\"\n", "d.toml"),
+                       doctest::Contains("'store.url': unknown database URL scheme 'mysql'"), InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[store]\nuri = \"x\"\n", "d.toml"),
+                       "d.toml:2: unknown key 'store.uri'", InputError);
+}

@@ -6,13 +6,14 @@
 #include <set>
 
 #include "tests/support/scratch_dir.hpp"
+#include "tests/support/test_database.hpp"
 
 namespace fs = std::filesystem;
 using namespace salient::server;
 
 TEST_CASE("jobs: created queued, started oldest first, finished once, listed newest first") {
   const salient::test::ScratchDir scratch("jobs");
-  Database db(scratch.path / "salient.db");
+  Database db(salient::test::test_database(scratch));
   JobStore jobs(db);
   const Job a = jobs.create("bunny.obj", "m1", "{}", "s1", 10);
   const Job b = jobs.create("spot.obj", "m2", "{}", "s1", 11);
@@ -47,13 +48,13 @@ TEST_CASE("jobs: a restart puts running jobs back in the queue, with their attem
   const salient::test::ScratchDir scratch("jobs");
   std::string id;
   {
-    Database db(scratch.path / "salient.db");
+    Database db(salient::test::test_database(scratch));
     JobStore jobs(db);
     id = jobs.create("bunny.obj", "m", "{}", "s", 1).id;
     jobs.start_next(2);
     jobs.set_progress(id, JobPhase::plan, 0.6);
   }  // the daemon dies here
-  Database db(scratch.path / "salient.db");
+  Database db(salient::test::test_database(scratch));
   JobStore jobs(db);
   CHECK(jobs.requeue_running() == 1);
   const Job j = *jobs.get(id);

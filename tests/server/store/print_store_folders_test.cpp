@@ -9,6 +9,7 @@
 #include "server/store/settings_store.hpp"
 #include "server/store/store.hpp"
 #include "tests/support/scratch_dir.hpp"
+#include "tests/support/test_database.hpp"
 
 using namespace salient::server;
 
@@ -23,7 +24,7 @@ std::vector<std::string> names(PrintStore& s) {
 
 TEST_CASE("folders: ancestors made, move and copy take the subtree only, remove is recursive") {
   salient::test::ScratchDir dir("print-store-folders");
-  Store store(dir.path);
+  Store store(dir.path, salient::test::test_database(dir));
   PrintStore files(store.db());
   files.put_folder("a/b/c", 1);
   CHECK(files.folders() == std::vector<std::string>{"a", "a/b", "a/b/c"});
@@ -56,7 +57,7 @@ TEST_CASE("folders: ancestors made, move and copy take the subtree only, remove 
 
 TEST_CASE("folders: queued prints follow their files when they move") {
   salient::test::ScratchDir dir("print-store-queue-move");
-  Store store(dir.path);
+  Store store(dir.path, salient::test::test_database(dir));
   PrintStore files(store.db());
   QueueStore queue(store.db());
   files.put_file("f/a.gcode", "d", 1, 1);
@@ -76,12 +77,12 @@ TEST_CASE("folders: queued prints follow their files when they move") {
 TEST_CASE("settings: put replaces, get reads back after reopening") {
   salient::test::ScratchDir dir("settings-store");
   {
-    Store store(dir.path);
+    Store store(dir.path, salient::test::test_database(dir));
     SettingsStore s(store.db());
     CHECK_FALSE(s.get("octoprint").has_value());
     s.put("octoprint", R"({"a":1})", 1);
     s.put("octoprint", R"({"a":2})", 2);
   }
-  Store again(dir.path);
+  Store again(dir.path, salient::test::test_database(dir));
   CHECK(SettingsStore(again.db()).get("octoprint") == R"({"a":2})");
 }

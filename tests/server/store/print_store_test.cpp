@@ -4,12 +4,13 @@
 
 #include "server/store/store.hpp"
 #include "tests/support/scratch_dir.hpp"
+#include "tests/support/test_database.hpp"
 
 using namespace salient::server;
 
 TEST_CASE("prints: progress as it goes, finished, and those a crash left become interrupted") {
   salient::test::ScratchDir dir("print-store");
-  Store store(dir.path);
+  Store store(dir.path, salient::test::test_database(dir));
   PrintStore prints(store.db());
   const PrintRecord a = prints.create("sim", std::nullopt, "abc", "a.gcode", 1000, 10.0);
   CHECK(a.state == PrintState::printing);
@@ -75,7 +76,7 @@ TEST_CASE("totals: ended prints only, per printer or all, pauses out of the prin
 
 TEST_CASE("files: stored by name, replaced by a new upload of the same name, removed") {
   salient::test::ScratchDir dir("print-files");
-  Store store(dir.path);
+  Store store(dir.path, salient::test::test_database(dir));
   PrintStore prints(store.db());
   prints.put_file("a.gcode", "d1", 10, 1.0);
   prints.put_file("b.gcode", "d2", 20, 2.0);
