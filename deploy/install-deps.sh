@@ -31,6 +31,9 @@ build_packages=(
   python3-websocket
   # Zeroconf: salientd announces _octoprint._tcp through Avahi when configured; the test browses
   avahi-daemon avahi-utils libavahi-client-dev
+  # salientd tells systemd it is ready (sd_notify, Type=notify); `make deb` checks the package
+  # with lintian and the deploy tests build it with dpkg-deb/dpkg-shlibdeps (dpkg-dev)
+  libsystemd-dev lintian dpkg-dev
 )
 peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 
