@@ -32,8 +32,9 @@ build_packages=(
   # Zeroconf: salientd announces _octoprint._tcp through Avahi when configured; the test browses
   avahi-daemon avahi-utils libavahi-client-dev
   # salientd tells systemd it is ready (sd_notify, Type=notify); `make deb` checks the package
-  # with lintian and the deploy tests build it with dpkg-deb/dpkg-shlibdeps (dpkg-dev)
-  libsystemd-dev lintian dpkg-dev
+  # with lintian and the deploy tests build it with dpkg-deb/dpkg-shlibdeps (dpkg-dev) and read
+  # the udev rule with udevadm (udev)
+  libsystemd-dev lintian dpkg-dev udev
 )
 peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 

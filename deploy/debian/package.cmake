@@ -9,39 +9,25 @@ install(FILES "${deb_dir}/salientd.toml" DESTINATION /etc/salient)
 install(FILES "${PROJECT_SOURCE_DIR}/deploy/systemd/salientd.service" DESTINATION /lib/systemd/system)
 install(FILES "${PROJECT_SOURCE_DIR}/deploy/udev/60-salient-printers.rules" DESTINATION /lib/udev/rules.d)
 
-# The version orders every commit: 0.1.0+git<commits>.<hash>, so a package built from a later
-# commit upgrades one built from an earlier (dpkg compares the commit count first).
-execute_process(COMMAND git -C "${PROJECT_SOURCE_DIR}" rev-list --count HEAD
-                OUTPUT_VARIABLE git_count OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-execute_process(COMMAND git -C "${PROJECT_SOURCE_DIR}" rev-parse --short=8 HEAD
-                OUTPUT_VARIABLE git_hash OUTPUT_STRIP_TRAILING_WHITESPACE ERROR_QUIET)
-set(deb_version "${PROJECT_VERSION}")
-if(git_count AND git_hash)
-  set(deb_version "${PROJECT_VERSION}+git${git_count}.${git_hash}")
-endif()
-
-# /usr/share/doc/salient: copyright, the changelog (a native package's: changelog.gz, gzip -9n:
-# reproducible, as lintian asks), README.
+# /usr/share/doc/salient: copyright, README, and the changelog, which cpack_config.cmake writes
+# when cpack runs (with the version: both follow the commit the package is made from).
 set(doc_build "${PROJECT_BINARY_DIR}/deb-doc")
 file(MAKE_DIRECTORY "${doc_build}")
-string(TIMESTAMP deb_date "%a, %d %b %Y %H:%M:%S +0000" UTC)
-file(READ "${deb_dir}/changelog" changelog)
-string(REPLACE "@DEB_VERSION@" "${deb_version}" changelog "${changelog}")
-string(REPLACE "@GIT_DESCRIBE@" "${git_hash}" changelog "${changelog}")
-string(REPLACE "@DEB_DATE@" "${deb_date}" changelog "${changelog}")
-file(WRITE "${doc_build}/changelog" "${changelog}")
-execute_process(COMMAND gzip -9nf "${doc_build}/changelog")
+set(CPACK_SALIENT_SOURCE_DIR "${PROJECT_SOURCE_DIR}")
+set(CPACK_SALIENT_DOC_DIR "${doc_build}")
+set(CPACK_SALIENT_UPSTREAM_VERSION "${PROJECT_VERSION}")
+set(CPACK_PROJECT_CONFIG_FILE "${deb_dir}/cpack_config.cmake")
 foreach(page salientd salient salient-sim)
   configure_file("${deb_dir}/man/${page}.1" "${doc_build}/${page}.1" COPYONLY)
   execute_process(COMMAND gzip -9nf "${doc_build}/${page}.1")
   install(FILES "${doc_build}/${page}.1.gz" DESTINATION share/man/man1)
 endforeach()
-install(FILES "${doc_build}/changelog.gz" "${deb_dir}/copyright" "${PROJECT_SOURCE_DIR}/README.md"
-        DESTINATION share/doc/salient)
+install(FILES "${deb_dir}/copyright" "${PROJECT_SOURCE_DIR}/README.md" DESTINATION share/doc/salient)
+# OPTIONAL: a plain `cmake --install` (no cpack) has no changelog to install.
+install(FILES "${doc_build}/changelog.gz" DESTINATION share/doc/salient OPTIONAL)
 
 set(CPACK_GENERATOR DEB)
 set(CPACK_PACKAGE_NAME salient)
-set(CPACK_PACKAGE_VERSION "${deb_version}")
 set(CPACK_PACKAGING_INSTALL_PREFIX /usr)
 set(CPACK_STRIP_FILES ON)
 set(CPACK_PACKAGE_CONTACT "salient maintainers <salient@example.org>")
