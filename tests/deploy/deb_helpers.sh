@@ -50,15 +50,19 @@ sim_args = "--advanced-ok --emergency-parser --autoreport --time-scale 0"
 TOML
 }
 
-# unit_start LOG: /usr/bin/salientd started as the installed unit's ExecStart, User, Group,
-# SupplementaryGroups and UMask say, in / with a clean environment and a notify socket (what
-# systemd would receive goes to notify.log). Returns 1 if it exits before READY=1; else sets $pid,
-# $base (its URL) and $key (the admin key in /var/lib/salient).
+# unit_start LOG [listening]: /usr/bin/salientd started as the installed unit's ExecStart, User,
+# Group, SupplementaryGroups and UMask say, in / with a clean environment and a notify socket (what
+# systemd would receive goes to notify.log). Returns 1 (and sets $status) if it exits before it is
+# ready; else sets $pid, $base (its URL) and $key (the admin key in /var/lib/salient). Ready is
+# READY=1 on the socket; with "listening", its "listening on" log line (a salientd from before
+# sd_notify, which sends nothing).
 unit_start() {
-  local log=$1 unit=/lib/systemd/system/salientd.service exec_start user group supplementary mask
+  local log=$1 ready="READY=1" ready_file=notify.log unit=/lib/systemd/system/salientd.service exec_start user group supplementary mask
   exec_start=$(sed -n 's/^ExecStart=//p' "$unit")
   user=$(sed -n 's/^User=//p' "$unit") group=$(sed -n 's/^Group=//p' "$unit")
   supplementary=$(sed -n 's/^SupplementaryGroups=//p' "$unit") mask=$(sed -n 's/^UMask=//p' "$unit")
+  if [ "${2:-}" = listening ]; then ready="listening on" ready_file=$log; fi
+  notified=$([ "${2:-}" = listening ] && echo no || echo yes)
   [ -n "$exec_start" ] && [ -n "$user" ] || fail "unit: ExecStart '$exec_start', User '$user'"
   echo "ExecStart: $exec_start (as $user:$group, groups $supplementary, umask $mask)"
   chmod 755 "$PWD"
@@ -84,7 +88,7 @@ PY
   ) 2>> "$log" &
   pid=$!
   for _ in $(seq 600); do
-    grep -q "READY=1" notify.log && break
+    grep -q "$ready" "$ready_file" && break
     if ! kill -0 "$pid" 2>/dev/null; then
       wait "$pid"; status=$? pid=
       kill "$listener" 2>/dev/null; listener=
@@ -92,19 +96,24 @@ PY
     fi
     sleep 0.1
   done
-  grep -q "READY=1" notify.log || fail "no READY=1 on the notify socket: $(cat notify.log)"
+  grep -q "$ready" "$ready_file" || fail "not ready ('$ready' in $ready_file): $(cat "$ready_file")"
   base=$(grep -o "http://127.0.0.1:[0-9]*" "$log" | tail -1)
   [ -n "$base" ] || fail "no address in $log"
   key=$(cat /var/lib/salient/api-key) || fail "no /var/lib/salient/api-key"
 }
-# unit_stop: SIGTERM, as systemctl stop; salientd must exit 0 having sent STOPPING=1.
+# unit_stop: SIGTERM, as systemctl stop; salientd must exit 0 having sent STOPPING=1 (if it
+# notifies at all).
 unit_stop() {
   kill -TERM "$pid"
   wait "$pid"; local status=$?
   pid=
   [ "$status" = 0 ] || fail "salientd exited $status after SIGTERM"
-  wait "$listener"; listener=
-  grep -q "STOPPING=1" notify.log || fail "no STOPPING=1: $(cat notify.log)"
+  if [ "$notified" = yes ]; then
+    wait "$listener"; listener=
+    grep -q "STOPPING=1" notify.log || fail "no STOPPING=1: $(cat notify.log)"
+  else
+    kill "$listener" 2>/dev/null; wait "$listener" 2>/dev/null; listener=
+  fi
 }
 
 # print_finished: wait until the simulated printer's last print has finished, every line confirmed.

@@ -9,6 +9,8 @@
 #   install FROM's package again (a downgrade): its salientd refuses the newer database, exits
 #   non-zero with a message that says so, and writes nothing; today's package reads it again;
 #   purge: nothing left.
+# FROM's salientd predates sd_notify: it is taken as ready when it logs "listening on" (under
+# systemd, a Type=notify unit would wait for it in vain; the releases to come all notify).
 # Needs root, dpkg and git (skipped with exit 77 otherwise, or where a salient package or user is
 # there already). FROM's build stays in WORK_DIR/old-build (built once, then reused).
 #   deb_upgrade_test.sh BUILD_DIR SOURCE_DIR MODELS_DIR WORK_DIR FROM
@@ -52,7 +54,7 @@ echo "old: $from_version, new: $new_version"
 dpkg -i "$old_deb" < /dev/null > dpkg-old.log 2>&1 || { cat dpkg-old.log; fail "dpkg -i (old)"; }
 dpkg -L salient > files.txt
 add_sim_printer
-unit_start old.log || fail "the old salientd exited $status before it was ready"
+unit_start old.log listening || fail "the old salientd exited $status before it was ready"
 old_key=$key
 curl -s -f -o job.json -H "X-Api-Key: $key" -F "file=@$models/suzanne.obj" -F 'settings={"up": "y", "height": 12}' \
   "$base/api/v1/jobs" || fail "submit (old)"
@@ -89,7 +91,7 @@ echo "upgraded: schema $old_schema -> $new_schema, job, G-code, print, key and c
 # 4. A downgrade: FROM's salientd refuses today's database and leaves it as it was.
 jobs_before=$(/usr/bin/python3 -c "import sqlite3; c = sqlite3.connect('/var/lib/salient/salient.db'); print(c.execute('select count(*) from jobs').fetchone()[0])")
 dpkg -i "$old_deb" < /dev/null > dpkg-down.log 2>&1 || { cat dpkg-down.log; fail "dpkg -i (downgrade)"; }
-unit_start down.log && fail "the old salientd started on a newer database"
+unit_start down.log listening && fail "the old salientd started on a newer database"
 [ "$status" != 0 ] || fail "the old salientd exited 0 on a newer database"
 grep -q "newer than this salientd" down.log || fail "no clear message: $(cat down.log)"
 echo "downgrade refused (exit $status): $(grep -o "error: .*" down.log | head -1)"
