@@ -18,6 +18,7 @@ set -uo pipefail
 build=$1 source_dir=$2 models=$3 work=$4 from=$5
 source "$(dirname "$0")/deb_helpers.sh"
 deb_preconditions
+[ -n "$from" ] || skip "no commit to upgrade from (CMake's SALIENT_UPGRADE_FROM is empty)"
 command -v git >/dev/null || skip "git is not installed"
 git -C "$source_dir" cat-file -e "$from^{commit}" 2>/dev/null || skip "commit $from is not in this clone (a shallow one?)"
 mkdir -p "$work" && cd "$work" || exit 1
