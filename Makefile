@@ -7,6 +7,7 @@
 #                       marlin_session_fuzz, sim_firmware_fuzz, http_request_fuzz, multipart_fuzz, settings_fuzz,
 #                       ws_message_fuzz, config_fuzz, gcode_upload_fuzz)
 #   make bench          build and run the benchmarks in tests/bench
+#   make deb            the Debian package (salient_VERSION_ARCH.deb in $(BUILD)), checked by lintian
 SHELL := /bin/bash
 BUILD ?= build
 BUILD_ASAN ?= build-asan
@@ -27,7 +28,7 @@ CMAKE_FLAGS ?=
 # timed the same way by core_segment_tests). The release run keeps them all.
 SANITIZE_SKIP ?= core_saliency_tests:(a 500-face and a 270k-face mesh both work|saliency is invariant to rigid motion|saliency values are in|a map does not follow the tessellation)|peer: export-x3g is byte for byte gpx -m r2x, inside the travel|cli: exact --objective time never takes longer than --objective layers on|core_orient_tests:--up auto stands the Stanford bunny|cli: plan --segment and slice --segment time the same plan alike
 
-.PHONY: deps build run test test-sanitize fuzz bench format format-check clean
+.PHONY: deps build run test test-sanitize fuzz bench deb format format-check clean
 
 deps:
 	@bash deploy/install-deps.sh
@@ -71,6 +72,12 @@ fuzz: deps
 
 bench: build
 	bash tests/bench/run_benchmarks.sh $(BUILD)
+
+# The package of this build (deploy/debian/package.cmake): install it with apt install ./FILE.deb.
+deb: build
+	rm -f $(BUILD)/salient_*.deb
+	cd $(BUILD) && cpack -G DEB
+	lintian --fail-on error,warning $(BUILD)/salient_*.deb
 
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

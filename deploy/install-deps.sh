@@ -34,6 +34,10 @@ build_packages=(
   # the PostgreSQL store backend (salientd --database postgresql://…): libpq to build; the
   # server (15 in Debian 12) for the store tests, which start a temporary cluster on loopback
   libpq-dev postgresql
+  # salientd tells systemd it is ready (sd_notify, Type=notify); `make deb` checks the package
+  # with lintian and the deploy tests build it with dpkg-deb/dpkg-shlibdeps (dpkg-dev) and read
+  # the udev rule with udevadm (udev)
+  libsystemd-dev lintian dpkg-dev udev
 )
 peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 

@@ -25,6 +25,7 @@
 #include "server/jobs/job_service.hpp"
 #include "server/metrics/metrics.hpp"
 #include "server/printers/printer_service.hpp"
+#include "server/service/systemd_notify.hpp"
 #include "server/store/store.hpp"
 
 namespace {
@@ -52,6 +53,11 @@ void log_line(const std::string& text) {
     clean += c < 0x20 || c == 0x7f ? '?' : static_cast<char>(c);
   }
   if (text.size() > kMax) clean += "… (" + std::to_string(text.size()) + " bytes)";
+  static const bool journal = stderr_is_journal();  // the journal stamps lines itself
+  if (journal) {
+    std::fprintf(stderr, "%s\n", clean.c_str());
+    return;
+  }
   const auto now = std::chrono::system_clock::now();
   const std::time_t t = std::chrono::system_clock::to_time_t(now);
   char stamp[32];
@@ -173,6 +179,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   log_line("salientd " + std::string(version()) + " listening on http://" + http.address + ":" +
            std::to_string(port) + " data=" + config.data_dir +
            " database=" + store.database_url().redacted());
+  notify_ready("listening on " + http.address + ":" + std::to_string(port));
   std::atomic<bool> asked{false};
   std::thread watcher([&] {
     g_watcher = pthread_self();
@@ -181,6 +188,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     if (sig == 0) sigwait(&signals, &sig);
     if (sig == SIGUSR2) return;
     asked = true;
+    notify_stopping();
     log_line(std::string("stopping (") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + ")");
     server.stop();
   });

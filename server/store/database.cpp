@@ -96,9 +96,11 @@ void Database::migrate() {
   Transaction t(*this);  // another process migrating waits here, then finds it done
   const int have = schema_version();
   if (have > latest_schema_version())
+    // A downgrade: the older code would misread the newer tables. Nothing is written.
     throw StoreError("the database has schema version " + std::to_string(have) +
                      ", newer than this salientd (" + std::to_string(latest_schema_version()) +
-                     "): upgrade salientd");
+                     "): a newer salientd wrote it. Refusing to open it rather than risk damaging "
+                     "it: install the newer salientd again, or restore a backup made by this version");
   for (int v = have; v < latest_schema_version(); ++v) exec(migration_sql(v, dialect()));
   backend_->set_schema_version(latest_schema_version());
   t.commit();
