@@ -11,5 +11,7 @@ constexpr int api_level = 1;
 // The OctoPrint version whose API salientd serves: /api/version's "server" and /api/server's
 // "version" both tell this one (clients check it against features they need).
 constexpr std::string_view octoprint_version = "1.10.0";
+// The OctoPrint API version /api/version tells, and the Zeroconf announcement's "api" record.
+constexpr std::string_view octoprint_api_version = "0.1";
 
 }  // namespace salient::server

@@ -26,6 +26,7 @@
 #include "server/metrics/metrics.hpp"
 #include "server/printers/printer_service.hpp"
 #include "server/service/systemd_notify.hpp"
+#include "server/service/zeroconf.hpp"
 #include "server/store/store.hpp"
 
 namespace {
@@ -180,6 +181,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
            std::to_string(port) + " data=" + config.data_dir +
            " database=" + store.database_url().redacted());
   notify_ready("listening on " + http.address + ":" + std::to_string(port));
+  std::unique_ptr<ZeroconfAnnouncer> zeroconf;
+  if (config.zeroconf) zeroconf = announce_octoprint(config.zeroconf_name, port, log_line);
   std::atomic<bool> asked{false};
   std::thread watcher([&] {
     g_watcher = pthread_self();

@@ -15,7 +15,7 @@ void add_system_routes(Router& router) {
     const std::string v(version()), octo(octoprint_version);
     return HttpResponse::text(
         200,
-        json_text(nlohmann::json{{"api", "0.1"},
+        json_text(nlohmann::json{{"api", octoprint_api_version},
                                  {"server", octo},
                                  {"text", "OctoPrint " + octo + " (salientd " + v + ")"},
                                  {"salientd", v},

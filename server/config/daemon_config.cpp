@@ -1,5 +1,6 @@
 #include "server/config/daemon_config.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -87,6 +88,14 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
     }
   }
   core::read_section(top, "web", source, [&](TableReader& r) { r.text("vendor_dir", c.web_vendor_dir); });
+  core::read_section(top, "zeroconf", source, [&](TableReader& r) {
+    r.boolean("enabled", c.zeroconf);
+    r.text("name", c.zeroconf_name);
+  });
+  // DNS-SD instance names are one label: at most 63 bytes, no control characters.
+  if (c.zeroconf_name.size() > 63 || std::any_of(c.zeroconf_name.begin(), c.zeroconf_name.end(),
+                                                 [](unsigned char ch) { return ch < 0x20 || ch == 0x7f; }))
+    throw InputError(source, {}, "'zeroconf.name' must be at most 63 bytes without control characters");
   if (const toml::array* printers = top.array("printers")) {
     c.printers.clear();
     std::set<std::string> ids;

@@ -58,6 +58,10 @@ struct DaemonConfig {
   // Where the web page's JavaScript libraries are read from (Debian's libjs-three and
   // libjs-chart.js install under it), served at /vendor/three/… and /vendor/chart.js/….
   std::string web_vendor_dir = "/usr/share/javascript";
+  // [zeroconf]: announce salientd as OctoPrint does (_octoprint._tcp, _http._tcp) through Avahi,
+  // so that Cura and phone apps find it. Off by default: a daemon on loopback has no one to tell.
+  bool zeroconf = false;
+  std::string zeroconf_name;  // empty: "salient on HOSTNAME"
   std::vector<PrinterConfig> printers = {sim_printer()};
 };
 
