@@ -48,6 +48,9 @@ set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 # /usr/share/javascript; adduser for the maintainer scripts (deb-systemd-invoke is in
 # init-system-helpers, which is essential).
 set(CPACK_DEBIAN_PACKAGE_DEPENDS "libjs-three, libjs-chart.js, adduser")
+# The installed config announces the box over Zeroconf ([zeroconf]); without avahi-daemon it
+# still runs and says so in the journal.
+set(CPACK_DEBIAN_PACKAGE_RECOMMENDS "avahi-daemon")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_EXTRA "${deb_dir}/conffiles;${deb_dir}/postinst;${deb_dir}/prerm;${deb_dir}/postrm")
 set(CPACK_DEBIAN_PACKAGE_CONTROL_STRICT_PERMISSION ON)
 include(CPack)

@@ -25,7 +25,8 @@ deb_preconditions() {
 deb_cleanup() {
   [ -n "$pid" ] && kill -KILL "$pid" 2>/dev/null
   [ -n "$listener" ] && kill "$listener" 2>/dev/null
-  if dpkg-query -W -f='${Status}' salient 2>/dev/null | grep -q installed; then
+  # Any state but gone, a half-configured one ("install ok unpacked") too.
+  if dpkg-query -W -f='${Status}' salient 2>/dev/null | grep -qv "not-installed"; then
     dpkg --purge salient > /dev/null 2>&1
   fi
 }

@@ -44,6 +44,9 @@ for program in salientd salient salient-sim; do
   [ "$program" = salient-sim ] && path=old-build/protocol/salient-sim
   install -m 0755 "$path" "old-tree/usr/bin/$program" && strip "old-tree/usr/bin/$program" || fail "$path"
 done
+# FROM's conffile is today's without the sections FROM did not know (it refuses unknown keys).
+awk '/^\[zeroconf\]/ { skip = 1; next } skip && /^(\[|# A printer)/ { skip = 0 } !skip' \
+  old-tree/etc/salient/salientd.toml > old.toml && mv old.toml old-tree/etc/salient/salientd.toml
 sed -i "s/^Version: .*/Version: $from_version/" old-tree/DEBIAN/control
 (cd old-tree && find . -path ./DEBIAN -prune -o -type f -printf '%P\n' | sort | xargs md5sum > DEBIAN/md5sums)
 old_deb=$work/salient_${from_version}_old.deb
@@ -75,7 +78,10 @@ old_schema=$(schema_version)
 echo "old salientd: job $job done, print $old_print finished, schema $old_schema"
 
 # 3. Today's package over it.
-dpkg -i "$new_deb" < /dev/null > dpkg-new.log 2>&1 || { cat dpkg-new.log; fail "dpkg -i (upgrade)"; }
+# The shipped conffile changed since FROM and the admin edited theirs: as apt does unattended
+# (--force-confdef --force-confold), the admin's is kept; the new keys have their defaults.
+dpkg -i --force-confdef --force-confold "$new_deb" < /dev/null > dpkg-new.log 2>&1 ||
+  { cat dpkg-new.log; fail "dpkg -i (upgrade)"; }
 [ "$(dpkg-query -W -f='${Version}' salient)" = "$new_version" ] || fail "the upgrade did not install $new_version"
 grep -qx 'id = "sim"' /etc/salient/salientd.toml || fail "the upgrade lost the admin's printer in the config"
 unit_start new.log || fail "the new salientd exited $status before it was ready: $(cat new.log)"
@@ -91,13 +97,13 @@ echo "upgraded: schema $old_schema -> $new_schema, job, G-code, print, key and c
 
 # 4. A downgrade: FROM's salientd refuses today's database and leaves it as it was.
 jobs_before=$(/usr/bin/python3 -c "import sqlite3; c = sqlite3.connect('/var/lib/salient/salient.db'); print(c.execute('select count(*) from jobs').fetchone()[0])")
-dpkg -i "$old_deb" < /dev/null > dpkg-down.log 2>&1 || { cat dpkg-down.log; fail "dpkg -i (downgrade)"; }
+dpkg -i --force-confdef --force-confold "$old_deb" < /dev/null > dpkg-down.log 2>&1 || { cat dpkg-down.log; fail "dpkg -i (downgrade)"; }
 unit_start down.log listening && fail "the old salientd started on a newer database"
 [ "$status" != 0 ] || fail "the old salientd exited 0 on a newer database"
 grep -q "newer than this salientd" down.log || fail "no clear message: $(cat down.log)"
 echo "downgrade refused (exit $status): $(grep -o "error: .*" down.log | head -1)"
 [ "$(schema_version)" = "$new_schema" ] || fail "the refused downgrade changed the schema to $(schema_version)"
-dpkg -i "$new_deb" < /dev/null > dpkg-again.log 2>&1 || { cat dpkg-again.log; fail "dpkg -i (again)"; }
+dpkg -i --force-confdef --force-confold "$new_deb" < /dev/null > dpkg-again.log 2>&1 || { cat dpkg-again.log; fail "dpkg -i (again)"; }
 unit_start again.log || fail "today's salientd after the refused downgrade: $(cat again.log)"
 [ "$(curl -s -H "X-Api-Key: $key" "$base/api/v1/jobs" | field "['total']")" = "$jobs_before" ] ||
   fail "jobs lost after the refused downgrade"
