@@ -25,6 +25,8 @@
 #include "server/jobs/job_service.hpp"
 #include "server/metrics/metrics.hpp"
 #include "server/printers/printer_service.hpp"
+#include "server/store/backup.hpp"
+#include "server/store/data_dir_lock.hpp"
 #include "server/store/store.hpp"
 
 namespace {
@@ -113,6 +115,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   raise_descriptor_limit();
+  const DataDirLock lock(config.data_dir);  // before Store: a second daemon must not clear our tmp/
   Store store(config.data_dir);
   const ApiKey key = ensure_api_key(store);
   if (key.created)
@@ -198,6 +201,26 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   return asked ? 0 : 1;
 }
 
+// The data directory `backup` and `restore` work on: --data, else the config's.
+std::string data_dir_of(const std::string& config_path, const std::string& data) {
+  if (!data.empty()) return data;
+  return (config_path.empty() ? default_daemon_config() : load_daemon_config(config_path)).data_dir;
+}
+
+int backup(const std::string& data_dir, const std::string& dest) {
+  const BackupSummary s = backup_data_dir(data_dir, dest);
+  std::printf("backup %s: schema %d, %zu stored files (%ju bytes), %d database snapshot(s)\n", dest.c_str(),
+              s.schema_version, s.files, static_cast<std::uintmax_t>(s.bytes), s.snapshots);
+  return 0;
+}
+
+int restore(const std::string& src, const std::string& data_dir, bool force) {
+  const BackupSummary s = restore_data_dir(src, data_dir, force);
+  std::printf("restored %s into %s: schema %d, %zu stored files (%ju bytes), all verified\n", src.c_str(),
+              data_dir.c_str(), s.schema_version, s.files, static_cast<std::uintmax_t>(s.bytes));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -208,12 +231,27 @@ int main(int argc, char** argv) {
                  "TOML configuration (default: the embedded defaults, see config/salientd.toml)");
   app.add_option("--data", data, "Data directory: database, stored files, API key (default: var)");
   app.add_option("--listen", listen, "ADDRESS:PORT to serve (default: 127.0.0.1:8080)");
+  std::string dest, src;
+  bool force = false;
+  CLI::App* backup_cmd = app.add_subcommand(
+      "backup",
+      "Copy the data directory (database and stored files) to DEST, a new directory; the daemon may run");
+  backup_cmd->add_option("DEST", dest, "The backup to write (must not exist)")->required();
+  backup_cmd->fallthrough();
+  CLI::App* restore_cmd = app.add_subcommand(
+      "restore", "Verify the backup SRC, then install it as the data directory (the daemon stopped)");
+  restore_cmd->add_option("SRC", src, "A directory written by `salientd backup`")->required();
+  restore_cmd->add_flag("--force", force, "Replace the data directory's contents if it is not empty");
+  restore_cmd->fallthrough();
+  app.require_subcommand(0, 1);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
   try {
+    if (backup_cmd->parsed()) return backup(data_dir_of(config, data), dest);
+    if (restore_cmd->parsed()) return restore(src, data_dir_of(config, data), force);
     return serve(config, data, listen);
   } catch (const salient::core::InputError& e) {
     std::fprintf(stderr, "salientd: error: %s\n", e.what());
