@@ -9,6 +9,7 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket/rfc6455.hpp>
+#include <ctime>
 #include <optional>
 
 #include "server/http/http_shared.hpp"
@@ -23,6 +24,16 @@ namespace websocket = beast::websocket;
 // a while: closing with unread bytes resets the connection, and the client may lose the response.
 constexpr std::size_t kLingerBytes = 1u << 20;
 constexpr std::chrono::seconds kLingerTime{2};
+
+// RFC 9110 §6.6.1: a server with a clock sends Date; `salient doctor` compares it with its own.
+std::string http_date_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char text[40];
+  std::strftime(text, sizeof text, "%a, %d %b %Y %H:%M:%S GMT", &tm);
+  return text;
+}
 
 void set_cloexec(int fd) {
   if (fd >= 0) ::fcntl(fd, F_SETFD, ::fcntl(fd, F_GETFD) | FD_CLOEXEC);
@@ -233,6 +244,7 @@ class Session : public std::enable_shared_from_this<Session> {
     response_status_ = r.status;
     auto out = std::make_shared<http::response<http::string_body>>(static_cast<http::status>(r.status), 11);
     out->set(http::field::server, "salientd");
+    out->set(http::field::date, http_date_now());
     out->set(http::field::content_type, r.content_type);
     for (const auto& [name, value] : r.headers) out->set(name, value);
     out->keep_alive(keep_alive_);
