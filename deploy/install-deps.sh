@@ -31,6 +31,9 @@ build_packages=(
   python3-websocket
   # Zeroconf: salientd announces _octoprint._tcp through Avahi when configured; the test browses
   avahi-daemon avahi-utils libavahi-client-dev
+  # the reverse-proxy test runs deploy/nginx/salient.conf in a real nginx, over TLS with a
+  # self-signed certificate made by openssl
+  nginx openssl
 )
 peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 

@@ -90,11 +90,13 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   http.max_bodies_in_flight = config.max_bodies_in_flight_bytes;
   http.log = log_line;
   Metrics metrics;
+  http.trusted_proxies = TrustedProxies(config.trusted_proxies);
+  http.base_path = config.base_path;
   http.on_response = [&metrics](const std::string& method, const std::string& route, int status,
-                                double seconds) {
+                                double seconds, const std::string& client) {
     metrics.http_response(method, route, status, seconds);
     log_line("http method=" + method + " route=" + route + " status=" + std::to_string(status) +
-             " ms=" + std::to_string(static_cast<int>(seconds * 1000)));
+             " ms=" + std::to_string(static_cast<int>(seconds * 1000)) + " client=" + client);
   };
 
   // OpenBLAS starts its thread pool when it is loaded, before these lines can block the signals

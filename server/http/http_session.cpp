@@ -135,7 +135,7 @@ class Session : public std::enable_shared_from_this<Session> {
       std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
       request_.headers[name] = std::string(field.value());
     }
-    request_.remote = slot_->address();
+    forwarded(slot_->address());
     // RFC 9112 §6.3: a request whose codings do not end with chunked has no knowable length; its
     // bytes must not be read as the next request (smuggling). 400, and the connection goes.
     if (in.find(http::field::transfer_encoding) != in.end() && !parser_->chunked())
@@ -210,6 +210,22 @@ class Session : public std::enable_shared_from_this<Session> {
     return best;
   }
 
+  // The client's address and URL: the peer's own, unless it is a trusted proxy (client_address.hpp).
+  void forwarded(const std::string& peer) {
+    const TrustedProxies& trusted = shared_.options.trusted_proxies;
+    const bool proxy = trusted.trusts(peer);
+    request_.remote = client_address(peer, request_.header("x-forwarded-for"), trusted);
+    request_.base_path = base_path_of(proxy, request_.header("x-forwarded-prefix"),
+                                      request_.header("x-script-name"), shared_.options.base_path);
+    if (!proxy) return;
+    const std::string proto = request_.header("x-forwarded-proto");
+    if (proto == "https" || proto == "http") request_.scheme = proto;
+    const std::string host = request_.header("x-forwarded-host");
+    if (!host.empty()) request_.headers["host"] = host.substr(0, host.find(','));
+  }
+
+  std::string client() const { return request_.remote.empty() ? slot_->address() : request_.remote; }
+
   // Hands the connection to a WebSocket session; this HTTP session ends here.
   void upgrade(std::shared_ptr<WebSocketChannel> channel, const std::string& subprotocol) {
     upgraded_ = true;  // from here on stream_ is the WebSocket's
@@ -217,7 +233,7 @@ class Session : public std::enable_shared_from_this<Session> {
       std::lock_guard lock(shared_.mutex);
       shared_.sessions.erase(shared_from_this());
     }
-    if (shared_.options.on_response) shared_.options.on_response(method_, route_, 101, elapsed());
+    if (shared_.options.on_response) shared_.options.on_response(method_, route_, 101, elapsed(), client());
     start_websocket(stream_.release_socket(), std::move(channel), shared_, std::move(slot_), request_,
                     subprotocol);
   }
@@ -228,7 +244,7 @@ class Session : public std::enable_shared_from_this<Session> {
     const bool head = parser_->is_header_done() && parser_->get().method() == http::verb::head;
     write(std::move(response), head);
     if (shared_.options.on_response)
-      shared_.options.on_response(method_, route_, response_status_, elapsed());
+      shared_.options.on_response(method_, route_, response_status_, elapsed(), client());
   }
 
   // A request that could not be read: the stream is not in a known state any more.
@@ -237,7 +253,8 @@ class Session : public std::enable_shared_from_this<Session> {
     keep_alive_ = false;
     if (route_ == "unmatched") route_ = "invalid";
     write(error_response(status, code, message), false);
-    if (shared_.options.on_response) shared_.options.on_response(method_, route_, status, elapsed());
+    if (shared_.options.on_response)
+      shared_.options.on_response(method_, route_, status, elapsed(), client());
   }
 
   void write(HttpResponse r, bool head) {
@@ -246,7 +263,11 @@ class Session : public std::enable_shared_from_this<Session> {
     out->set(http::field::server, "salientd");
     out->set(http::field::date, http_date_now());
     out->set(http::field::content_type, r.content_type);
-    for (const auto& [name, value] : r.headers) out->set(name, value);
+    for (const auto& [name, value] : r.headers) {
+      // A path in Location is the client's: under the proxy's prefix ("/salient/api/v1/jobs/…").
+      const bool path = name == "Location" && value.size() > 1 && value[0] == '/' && value[1] != '/';
+      out->set(name, path ? request_.base_path + value : value);
+    }
     out->keep_alive(keep_alive_);
     out->body() = std::move(r.body);
     out->prepare_payload();
