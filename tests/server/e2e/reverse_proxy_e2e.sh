@@ -5,7 +5,8 @@
 # socket, Location headers and OctoPrint refs with the proxy's scheme, host and prefix, the page's
 # relative URLs; the client address in salientd's log and in the app-key rate limits is
 # X-Forwarded-For's from nginx (trusted) and the peer's own from anyone else (a spoofed header
-# ignored). Skipped (77) only when nginx cannot run here.
+# ignored; the per-address connection limit counts clients, not nginx). Skipped (77) only when
+# nginx cannot run here.
 #   reverse_proxy_e2e.sh SALIENTD MODELS_DIR WORKDIR
 set -euo pipefail
 salientd=$1 models=$2 work=$3
@@ -27,6 +28,7 @@ free_port() { /usr/bin/python3 -c "import socket; s=socket.socket(); s.bind(('12
 cat > proxy.toml <<'TOML'
 [server]
 trusted_proxies = ["127.0.0.2"]
+max_connections_per_address = 2
 
 [[printers]]
 id = "sim"
@@ -131,6 +133,24 @@ for path in ("/sockjs/websocket", "/salient/sockjs/websocket"):
     assert "connected" in first, first
     ws.close()
     print(f"{path} through nginx: {list(first)}")
+PY
+
+# The per-address connection limit (2 here) counts clients, not the proxy that carries them all.
+/usr/bin/python3 - "$tls" "$port" "$key" <<'PY' || fail "connection limits behind nginx"
+import ssl, sys, websocket
+tls, port, key = sys.argv[1:4]
+def events(url, **kw):
+    return websocket.create_connection(url, subprotocols=["salient.v1", "salient-key." + key], timeout=10, **kw)
+held = [events(f"wss://127.0.0.1:{tls}/api/v1/events", sslopt={"cert_reqs": ssl.CERT_NONE}) for _ in range(3)]
+print(f"{len(held)} sockets through nginx at once (over the per-address limit of 2)")
+direct = [events(f"ws://127.0.0.1:{port}/api/v1/events") for _ in range(2)]
+try:
+    direct.append(events(f"ws://127.0.0.1:{port}/api/v1/events"))
+    sys.exit("a third direct socket from one address was allowed")
+except websocket.WebSocketException as e:
+    print(f"a third direct socket is refused: {e}")
+for w in held + direct:
+    w.close()
 PY
 
 # The client address: nginx's X-Forwarded-For believed (the right-most hop nginx added, not the
