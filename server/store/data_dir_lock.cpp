@@ -29,6 +29,9 @@ DataDirLock::DataDirLock(const std::filesystem::path& data_dir) {
   if (ec) throw StoreError(data_dir.string() + ": " + ec.message());
   const std::filesystem::path path = data_dir / file_name;
   fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  // Made by another user (root, running a restore): flock needs only a read-only descriptor.
+  const bool writable = fd_ >= 0;
+  if (fd_ < 0 && errno == EACCES) fd_ = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
   if (fd_ < 0) throw StoreError(path.string() + ": " + std::strerror(errno));
   if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
     const int err = errno;
@@ -42,7 +45,7 @@ DataDirLock::DataDirLock(const std::filesystem::path& data_dir) {
   }
   // The pid is a hint for the message above; the lock itself is the flock.
   const std::string pid = std::to_string(::getpid()) + "\n";
-  if (::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
+  if (writable && ::ftruncate(fd_, 0) == 0 && ::pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
     // A full disk: the lock still holds, only the hint is missing.
   }
 }

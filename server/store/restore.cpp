@@ -1,6 +1,9 @@
 // salientd restore: verify a backup whole, then install it into a data directory.
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 #include <nlohmann/json.hpp>
 
@@ -34,6 +37,20 @@ void move_entries(const fs::path& from, const fs::path& to) {
   for (const fs::directory_entry& e : fs::directory_iterator(from))
     fs::rename(e.path(), to / e.path().filename());
   fs::remove(from);
+}
+
+// Run as root (sudo salientd restore …), the restored files get the data directory's owner, so
+// that the daemon's own user (salient) can write them; otherwise they are this user's already.
+void give_to_owner(const fs::path& data_dir, const fs::path& tree) {
+  struct stat st {};
+  if (::geteuid() != 0 || ::stat(data_dir.c_str(), &st) != 0 || st.st_uid == 0) return;
+  const auto own = [&](const fs::path& p) {
+    if (::lchown(p.c_str(), st.st_uid, st.st_gid) != 0)
+      throw StoreError(p.string() + ": chown: " + std::strerror(errno));
+  };
+  own(tree);
+  own(data_dir / DataDirLock::file_name);
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(tree)) own(e.path());
 }
 
 // Entries of the data directory other than its lock and our staging directory.
@@ -102,6 +119,7 @@ BackupSummary restore_data_dir(const fs::path& src, const fs::path& data_dir, bo
     fsync_dir(stage / "files" / "objects");
     fsync_dir(stage / "files");
     fsync_dir(stage);
+    give_to_owner(data_dir, stage);
   } catch (...) {
     fs::remove_all(stage, ec);
     throw;

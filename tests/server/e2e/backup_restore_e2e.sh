@@ -134,5 +134,18 @@ if mkdir -p ro full && mount -t tmpfs -o size=1m,ro tmpfs ro 2>/dev/null; then
 else
   echo "note: no tmpfs here (not root): the read-only and full-disk cases were not run"
 fi
+# Restored by root into the directory of the daemon's own user: the files are that user's, and a
+# daemon running as that user starts on them.
+if [ "$(id -u)" = 0 ] && command -v setpriv > /dev/null; then
+  mkdir owned && chown 65534:65534 owned
+  "$salientd" restore live --data owned > /dev/null || fail "restore into another user's directory"
+  [ -z "$(find owned ! -user 65534)" ] || fail "restored files not given to the directory's owner: $(find owned ! -user 65534)"
+  setpriv --reuid=65534 --regid=65534 --clear-groups "$salientd" --data owned --listen 127.0.0.1:0 2> owned.log &
+  owned_pid=$!
+  for _ in $(seq 100); do grep -q "listening on" owned.log && break; sleep 0.1; done
+  grep -q "listening on" owned.log || { kill "$owned_pid"; fail "the owner's daemon did not start: $(cat owned.log)"; }
+  kill -TERM "$owned_pid"; wait "$owned_pid" || fail "the owner's daemon: $(tail -3 owned.log)"
+  echo "restored as root into nobody's directory: nobody's files, nobody's daemon starts on them"
+fi
 grep -q "terminate called\|Aborted" daemon.log && fail "a daemon aborted"
 echo "ok: backup while running and stopped, restore into a new directory serves everything; bad input refused"
