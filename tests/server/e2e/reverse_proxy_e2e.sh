@@ -135,6 +135,51 @@ for path in ("/sockjs/websocket", "/salient/sockjs/websocket"):
     print(f"{path} through nginx: {list(first)}")
 PY
 
+# The page in a real browser under /salient/: signed in, live events, the job listed; every request
+# it made went under the prefix (nginx's access log).
+if [ -x /usr/bin/chromedriver ] && [ -x /usr/bin/chromium ]; then
+  /usr/bin/python3 - "$tls" "$key" "$work" <<'PY' || fail "the page under /salient/ in Chromium"
+import sys, time
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.by import By
+tls, key, work = sys.argv[1:4]
+options = webdriver.ChromeOptions()
+options.binary_location = "/usr/bin/chromium"
+for arg in ("--headless=new", "--no-sandbox", "--disable-dev-shm-usage", "--ignore-certificate-errors",
+            f"--user-data-dir={work}/chromium-profile", "--user-agent=salient-proxy-test"):
+    options.add_argument(arg)
+d = webdriver.Chrome(service=Service("/usr/bin/chromedriver"), options=options)
+def wait(what, f, seconds=30):
+    end = time.monotonic() + seconds
+    while time.monotonic() < end:
+        try:
+            if f():
+                return
+        except Exception:
+            pass
+        time.sleep(0.1)
+    sys.exit(f"timed out waiting for {what}; page: {d.find_element(By.TAG_NAME, 'body').text[:300]!r}")
+try:
+    d.get(f"https://127.0.0.1:{tls}/salient/")
+    wait("the sign-in form", lambda: d.find_elements(By.CSS_SELECTOR, "#api-key"))
+    d.find_element(By.CSS_SELECTOR, "#api-key").send_keys(key)
+    d.find_element(By.CSS_SELECTOR, "form.sign-in button[type=submit]").click()
+    wait("the jobs page", lambda: d.find_elements(By.CSS_SELECTOR, "#drop-zone"))
+    wait("the live events", lambda: d.find_element(By.CSS_SELECTOR, "#link-state").text == "live")
+    wait("the job in the list", lambda: "cube_binary.ply" in d.find_element(By.TAG_NAME, "body").text)
+    print("the page under /salient/ in Chromium: signed in, events live, the job listed")
+finally:
+    d.quit()
+PY
+  browser_paths=$(grep "salient-proxy-test" nginx/access.log | awk '{print $7}' | sort -u)
+  [ -n "$browser_paths" ] || fail "no request of the browser in nginx's log"
+  echo "$browser_paths" | grep -v "^/salient/" && fail "the page made requests outside /salient/"
+  echo "the browser's $(echo "$browser_paths" | wc -l) distinct paths all under /salient/"
+else
+  echo "note: no Chromium here: the page under /salient/ was checked with curl only"
+fi
+
 # The per-address connection limit (2 here) counts clients, not the proxy that carries them all.
 /usr/bin/python3 - "$tls" "$port" "$key" <<'PY' || fail "connection limits behind nginx"
 import ssl, sys, websocket
