@@ -142,7 +142,8 @@ class Printer {
   bool cancel_requested_ = false;  // the running print was cancelled (not failed) by a request
   bool commands_running_ = false;  // console commands are being streamed
   // The thread's alone: the printer should be connected (a connect was asked for, and no
-  // disconnect or halt since), so a lost link is reconnected when the device is back.
+  // disconnect, emergency stop or firmware failure since), so a lost link is reconnected when
+  // the device is back.
   bool replug_ = false;
 
   std::unique_ptr<SimProcess> sim_;

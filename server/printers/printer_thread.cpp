@@ -102,7 +102,7 @@ void Printer::run_console(const std::vector<std::string>& lines, const EventFn& 
     if (r.disconnected)
       close_link(PrinterState::error, r.reason);
     else if (r.end == PrintEnd::failed) {
-      if (r.halted || r.reason == "emergency stop") replug_ = false;  // a halted board waits for a person
+      replug_ = false;  // the firmware failed (halted, a kill): a person looks first, not a reconnect
       close_link(PrinterState::error, r.reason == "emergency stop" ? kHalted : r.reason);
     }
   } catch (const LinkError& e) {
@@ -291,7 +291,7 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
   if (result.disconnected)
     return close_link(PrinterState::error, "link lost during the print: " + result.reason);
   if (streamed && result.end == PrintEnd::failed) {
-    if (result.halted) replug_ = false;  // a halted board waits for a person
+    replug_ = false;  // the firmware failed (halted, thermal runaway): a person looks first, not a reconnect
     return close_link(PrinterState::error, result.reason.empty() ? "the print failed" : result.reason);
   }
   notify(false);

@@ -19,9 +19,9 @@ trap cleanup EXIT
 api() { curl -s -H "X-Api-Key: $key" "$@"; }
 status() { api "$base/api/v1/printers/usb" | field "$1"; }
 state_is() { [ "$(status "['state']")" = "$1" ]; }
-# plug LOG: a simulated board on a new pty, reachable as ./printer (as udev's by-id link would be).
+# plug LOG [SIM_ARGS…]: a simulated board on a new pty, reachable as ./printer (as udev's by-id link would be).
 plug() {
-  "$sim_program" --link "$work/printer" --advanced-ok --time-scale 0.2 --heat-time-scale 0 --log "$1" > sim.out 2>&1 &
+  "$sim_program" --link "$work/printer" --advanced-ok --time-scale 0.2 --heat-time-scale 0 --log "$1" "${@:2}" > sim.out 2>&1 &
   sim=$!
   for _ in $(seq 100); do [ -e printer ] && break; sleep 0.05; done
   [ -e printer ] || fail "salient-sim did not make its link: $(cat sim.out)"
@@ -88,6 +88,18 @@ eventually 60 state_is operational > /dev/null || fail "the print after the repl
 [ "$(status "['last_print']['state']")" = finished ] || fail "print after the replug: $(status "['last_print']")"
 kill -TERM "$sim"; wait "$sim" 2>/dev/null || true; sim=
 same_commands small.gcode third.log
+
+# A firmware failure is not a replug: after a thermal runaway (the board halted) the printer stays
+# in error for a person to look at, although its device is there.
+rm -f printer
+eventually 10 state_is error > /dev/null || fail "not in error after the third unplug: $(status "")"
+plug fourth.log --faults thermal-runaway-at=40
+eventually 8 state_is operational > /dev/null || fail "did not reconnect the third time: $(status "")"
+api -f -o /dev/null -F "file=@long.gcode;filename=runaway.gcode" -F print=true "$base/api/files/local" || fail "upload runaway"
+eventually 30 state_is error > /dev/null || fail "the thermal runaway: $(status "")"
+echo "thermal runaway: $(status "['error']")"
+sleep 4
+state_is error || fail "reconnected by itself after a firmware failure: $(status "")"
 stop
 grep -q "terminate called\|Aborted" daemon.log && fail "the daemon aborted"
 echo "ok: unplugged mid-print → error, print interrupted and resumable; replugged → connected by itself, resumed, printed"
