@@ -108,6 +108,7 @@ class Printer {
   struct Replug {
     bool present = true;  // the device path existed at the last look
     std::chrono::steady_clock::time_point last_try{};
+    std::string tried;  // the device node last tried (printer_replug.cpp: identity())
   };
   static constexpr std::chrono::seconds kReplugPoll{2};
   void poll_replug(Replug& replug);

@@ -10,6 +10,17 @@
 
 namespace salient::server {
 
+namespace {
+
+// A device node's identity: a replug makes a new node (a new inode and change time), even when
+// the kernel gives it the old name and number, so a quick replug is told from a silent board.
+std::string identity(const struct stat& st) {
+  return std::to_string(st.st_rdev) + ":" + std::to_string(st.st_ino) + ":" +
+         std::to_string(st.st_ctim.tv_sec) + "." + std::to_string(st.st_ctim.tv_nsec);
+}
+
+}  // namespace
+
 void Printer::poll_replug(Replug& r) {
   using Clock = std::chrono::steady_clock;
   struct stat st {};
@@ -21,12 +32,13 @@ void Printer::poll_replug(Replug& r) {
     r.present = false;
     return;
   }
-  const bool back = !r.present;
+  const bool back = !r.present || identity(st) != r.tried;  // gone and back, or replaced between two looks
   r.present = true;
-  // A device that is there but did not answer is tried again now and then, not every poll: each
-  // try resets most boards (DTR) and shows as a connecting state.
+  // The same device that did not answer is tried again now and then, not every poll: each try
+  // resets most boards (DTR) and shows as a connecting state.
   if (!back && Clock::now() - r.last_try < std::chrono::seconds(10)) return;
   r.last_try = Clock::now();
+  r.tried = identity(st);
   open_link();
 }
 
