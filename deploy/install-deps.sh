@@ -38,6 +38,9 @@ build_packages=(
   # with lintian and the deploy tests build it with dpkg-deb/dpkg-shlibdeps (dpkg-dev) and read
   # the udev rule with udevadm (udev)
   libsystemd-dev lintian dpkg-dev udev
+  # the reverse-proxy test runs deploy/nginx/salient.conf in a real nginx, over TLS with a
+  # self-signed certificate made by openssl
+  nginx openssl
 )
 peer_packages=(prusa-slicer cura-engine cura printrun wrk hyperfine)
 

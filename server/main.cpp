@@ -27,6 +27,8 @@
 #include "server/printers/printer_service.hpp"
 #include "server/service/systemd_notify.hpp"
 #include "server/service/zeroconf.hpp"
+#include "server/store/backup.hpp"
+#include "server/store/data_dir_lock.hpp"
 #include "server/store/store.hpp"
 
 namespace {
@@ -97,11 +99,13 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   http.max_bodies_in_flight = config.max_bodies_in_flight_bytes;
   http.log = log_line;
   Metrics metrics;
+  http.trusted_proxies = TrustedProxies(config.trusted_proxies);
+  http.base_path = config.base_path;
   http.on_response = [&metrics](const std::string& method, const std::string& route, int status,
-                                double seconds) {
+                                double seconds, const std::string& client) {
     metrics.http_response(method, route, status, seconds);
     log_line("http method=" + method + " route=" + route + " status=" + std::to_string(status) +
-             " ms=" + std::to_string(static_cast<int>(seconds * 1000)));
+             " ms=" + std::to_string(static_cast<int>(seconds * 1000)) + " client=" + client);
   };
 
   // OpenBLAS starts its thread pool when it is loaded, before these lines can block the signals
@@ -122,6 +126,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   raise_descriptor_limit();
+  const DataDirLock lock(config.data_dir);  // before Store: a second daemon must not clear our tmp/
   Store store(config.data_dir,
               config.store_url.empty() ? std::nullopt : std::optional(DatabaseUrl::parse(config.store_url)),
               config.store_files);
@@ -214,6 +219,26 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   return asked ? 0 : 1;
 }
 
+// The data directory `backup` and `restore` work on: --data, else the config's.
+std::string data_dir_of(const std::string& config_path, const std::string& data) {
+  if (!data.empty()) return data;
+  return (config_path.empty() ? default_daemon_config() : load_daemon_config(config_path)).data_dir;
+}
+
+int backup(const std::string& data_dir, const std::string& dest) {
+  const BackupSummary s = backup_data_dir(data_dir, dest);
+  std::printf("backup %s: schema %d, %zu stored files (%ju bytes), %d database snapshot(s)\n", dest.c_str(),
+              s.schema_version, s.files, static_cast<std::uintmax_t>(s.bytes), s.snapshots);
+  return 0;
+}
+
+int restore(const std::string& src, const std::string& data_dir, bool force) {
+  const BackupSummary s = restore_data_dir(src, data_dir, force);
+  std::printf("restored %s into %s: schema %d, %zu stored files (%ju bytes), all verified\n", src.c_str(),
+              data_dir.c_str(), s.schema_version, s.files, static_cast<std::uintmax_t>(s.bytes));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -226,12 +251,35 @@ int main(int argc, char** argv) {
   app.add_option("--database", database,
                  "Store: a SQLite path, sqlite:PATH or postgresql://USER@HOST/DB (default: DATA/salient.db)");
   app.add_option("--listen", listen, "ADDRESS:PORT to serve (default: 127.0.0.1:8080)");
+  std::string dest, src;
+  bool force = false;
+  CLI::App* backup_cmd = app.add_subcommand(
+      "backup",
+      "Copy the data directory (database and stored files) to DEST, a new directory; the daemon may run");
+  backup_cmd->add_option("DEST", dest, "The backup to write (must not exist)")->required();
+  backup_cmd->fallthrough();
+  CLI::App* restore_cmd = app.add_subcommand(
+      "restore", "Verify the backup SRC, then install it as the data directory (the daemon stopped)");
+  restore_cmd->add_option("SRC", src, "A directory written by `salientd backup`")->required();
+  restore_cmd->add_flag("--force", force, "Replace the data directory's contents if it is not empty");
+  restore_cmd->fallthrough();
+  app.require_subcommand(0, 1);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
   try {
+    if (backup_cmd->parsed() || restore_cmd->parsed()) {
+      const DaemonConfig c = config.empty() ? default_daemon_config() : load_daemon_config(config);
+      if (!database.empty() || !c.store_url.empty())
+        if (DatabaseUrl::parse(database.empty() ? c.store_url : database).dialect() == Dialect::postgresql)
+          throw salient::core::InputError(
+              "--database", {},
+              "the store is PostgreSQL: back it up with pg_dump and restore with pg_restore (README, \"Farm\")");
+    }
+    if (backup_cmd->parsed()) return backup(data_dir_of(config, data), dest);
+    if (restore_cmd->parsed()) return restore(src, data_dir_of(config, data), force);
     return serve(config, data, listen, database);
   } catch (const salient::core::InputError& e) {
     std::fprintf(stderr, "salientd: error: %s\n", e.what());

@@ -31,5 +31,7 @@ void add_print_command(CLI::App& app, CommandAction& action);
 void add_client_commands(CLI::App& app, CommandAction& action);
 // keys list|create|revoke|requests|approve|deny: salientd's API keys and app key requests.
 void add_keys_command(CLI::App& app, CommandAction& action);
+// doctor: why it does not connect (doctor.hpp).
+void add_doctor_command(CLI::App& app, CommandAction& action);
 
 }  // namespace salient::cli

@@ -83,7 +83,8 @@ struct DaemonClient::Impl {
     if (ec) throw DaemonError(0, "salientd at " + address.host + ":" + address.port + ": " + ec.message());
     auto& res = parser.get();
     DaemonReply out{static_cast<int>(res.result_int()), std::move(res.body()),
-                    std::string(res[http::field::content_type]), std::string(res[http::field::location])};
+                    std::string(res[http::field::content_type]), std::string(res[http::field::location]),
+                    std::string(res[http::field::date])};
     stream.socket().shutdown(tcp::socket::shutdown_both, ec);
     if (out.status >= 400) throw DaemonError(out.status, error_message(out.body, out.status));
     return out;

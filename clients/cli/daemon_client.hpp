@@ -22,6 +22,7 @@ DaemonAddress resolve_daemon(const std::string& server, const std::string& key);
 struct DaemonReply {
   int status = 0;
   std::string body, content_type, location;
+  std::string date;  // the Date header: the daemon's clock
 };
 
 // The daemon could not be reached, or answered with an error status (the message is its own).

@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   salient::cli::add_print_command(app, action);
   salient::cli::add_client_commands(app, action);
   salient::cli::add_keys_command(app, action);
+  salient::cli::add_doctor_command(app, action);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

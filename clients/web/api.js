@@ -37,7 +37,7 @@ export const api = {
     }
     let response;
     try {
-      response = await fetch('/api/v1' + path, { method, headers, body, cache: 'no-store' });
+      response = await fetch('api/v1' + path, { method, headers, body, cache: 'no-store' });
     } catch (e) {
       throw new ApiError(0, 'unreachable', 'salientd cannot be reached: ' + e.message);
     }
@@ -57,7 +57,7 @@ export const api = {
       form.append('file', file, file.name);
       form.append('settings', JSON.stringify(settings));
       const xhr = new XMLHttpRequest();
-      xhr.open('POST', '/api/v1/jobs');
+      xhr.open('POST', 'api/v1/jobs');
       xhr.setRequestHeader('X-Api-Key', api.key());
       xhr.upload.onprogress = (e) => e.lengthComputable && onProgress && onProgress(e.loaded / e.total);
       xhr.onerror = () => reject(new ApiError(0, 'unreachable', 'salientd cannot be reached'));
@@ -128,8 +128,10 @@ export class Events {
 
   open() {
     if (this.stopped || !api.key()) return;
-    const scheme = location.protocol === 'https:' ? 'wss:' : 'ws:';
-    const ws = new WebSocket(`${scheme}//${location.host}/api/v1/events`, [
+    // Relative to the page, like every URL here: behind a proxy's prefix (/salient/) too.
+    const url = new URL('api/v1/events', document.baseURI);
+    url.protocol = url.protocol === 'https:' ? 'wss:' : 'ws:';
+    const ws = new WebSocket(url.href, [
       'salient.v1',
       'salient-key.' + api.key(),
     ]);

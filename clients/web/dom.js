@@ -50,7 +50,9 @@ export function announce(message) {
 // A library the page imports from /vendor/ failed to load: the server's own words when it has
 // some (a 404 naming the Debian package to install), else the browser's.
 export async function whyNotLoaded(error) {
-  for (const url of ['/vendor/three/three.module.js', '/vendor/chart.js/chart.esm.js']) {
+  // Relative to this module: the page may be served under a proxy's prefix (/salient/).
+  const libraries = ['../vendor/three/three.module.js', '../vendor/chart.js/chart.esm.js'];
+  for (const url of libraries.map((u) => new URL(u, import.meta.url))) {
     try {
       const r = await fetch(url, { method: 'GET', cache: 'no-store' });
       if (!r.ok) return (await r.json()).error.message;

@@ -2,7 +2,7 @@
 // height; hovering (or the arrow keys, with the plot focused) shows a layer's heights, thickness,
 // saliency and error (the layer's SM), and lights it on the 3D view. A SegOpt plan adds each
 // region's own layers in its colour. Chart.js from Debian's libjs-chart.js.
-import { Chart, registerables } from '/vendor/chart.js/chart.esm.js';
+import { Chart, registerables } from '../vendor/chart.js/chart.esm.js';
 import { h, themeColor, REGION_COLORS } from './dom.js';
 
 Chart.register(...registerables);

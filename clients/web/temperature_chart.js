@@ -2,7 +2,7 @@
 // GET /api/v1/printers/{id}/temperatures, then each "printer" event added as it comes. The time
 // axis is minutes before now (Chart.js's time axis would need a date library Debian does not
 // ship), as long as the history goes back, up to 30.
-import { Chart, registerables } from '/vendor/chart.js/chart.esm.js';
+import { Chart, registerables } from '../vendor/chart.js/chart.esm.js';
 import { h, themeColor } from './dom.js';
 
 Chart.register(...registerables);

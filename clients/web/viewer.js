@@ -1,7 +1,7 @@
 // The model as the job placed it on the bed, coloured by its saliency (the job's saliency.ply,
 // per-vertex `quality` 0..1), with the plan's layer boundaries drawn on its surface as contour
 // lines: where the model is salient the lines crowd together. WebGL through Debian's three.js.
-import * as THREE from '/vendor/three/three.module.js';
+import * as THREE from '../vendor/three/three.module.js';
 import { Orbit } from './orbit.js';
 import { parsePly } from './ply.js';
 import { h, themeColor, REGION_COLORS } from './dom.js';

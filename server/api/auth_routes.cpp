@@ -218,8 +218,10 @@ void add_app_routes(Router& router, ApiKeys& keys, AppKeyRequests& requests) {
             !host.empty() && host.size() <= 255 &&
             host.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789.-:[]") ==
                 std::string::npos;
-        const std::string base = plain_host ? "http://" + host : "";
-        HttpResponse resp = json_response(201, {{"app_token", made.app_token}, {"auth_dialog", base + "/"}});
+        // The URL the client used: behind a trusted proxy, its scheme, host and prefix.
+        const std::string base = plain_host ? r.scheme + "://" + host + r.base_path : "";
+        HttpResponse resp = json_response(
+            201, {{"app_token", made.app_token}, {"auth_dialog", (base.empty() ? r.base_path : base) + "/"}});
         resp.headers.emplace_back("Location", base + poll);
         return resp;
       });

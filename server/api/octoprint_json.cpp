@@ -68,9 +68,11 @@ Printer& default_printer(PrinterService& printers) {
   throw ApiError(409, "not_operational", "no printer is configured");
 }
 
+// The URL the client used (behind a trusted proxy: its scheme, host and prefix, as OctoPrint
+// builds its refs from X-Forwarded-*/X-Script-Name).
 std::string base_url(const HttpRequest& r) {
   const std::string host = r.header("host");
-  return host.empty() ? std::string() : "http://" + host;
+  return host.empty() ? std::string() : r.scheme + "://" + host + r.base_path;
 }
 
 json file_json(const StoredFile& f, const HttpRequest& r) {

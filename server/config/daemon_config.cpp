@@ -10,6 +10,7 @@
 #include "core/common/toml_table_reader.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "protocol/s3g/machine.hpp"
+#include "server/http/client_address.hpp"
 #include "server/printers/sim_process.hpp"
 #include "server/store/database.hpp"  // DatabaseUrl, StoreError
 
@@ -44,6 +45,29 @@ PrinterProtocol protocol_of_profile(const std::string& profile) {
   return p && p->flavor == core::GcodeFlavor::sailfish ? PrinterProtocol::s3g : PrinterProtocol::marlin;
 }
 
+void read_proxy_settings(TableReader& r, DaemonConfig& c, const std::string& source) {
+  if (const toml::array* proxies = r.array("trusted_proxies", "an array of addresses or networks")) {
+    for (const toml::node& n : *proxies) {
+      const InputLocation at = InputLocation::at_line(core::line_of(n));
+      if (!n.is_string())
+        throw InputError(source, at, "'server.trusted_proxies' holds addresses as strings (\"127.0.0.1\")");
+      c.trusted_proxies.push_back(n.as_string()->get());
+    }
+    try {
+      TrustedProxies check(c.trusted_proxies);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(source, {}, "'server.trusted_proxies': " + std::string(e.what()));
+    }
+  }
+  std::string base;
+  r.text("base_path", base);
+  const std::optional<std::string> normal = normal_base_path(base);
+  if (!normal)
+    throw InputError(source, {},
+                     "'server.base_path' must be a path such as \"/salient\", got '" + base + "'");
+  c.base_path = *normal;
+}
+
 }  // namespace
 
 DaemonConfig default_daemon_config() {
@@ -66,6 +90,7 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
     r.integer("max_connections", c.max_connections, 1, 1000000);
     r.integer("max_connections_per_address", c.max_connections_per_address, 1, 1000000);
     r.number("max_bodies_in_flight_mb", in_flight_mb, 0.001, 1048576.0);
+    read_proxy_settings(r, c, source);
   });
   if (!(in_flight_mb >= upload_mb))
     throw InputError(source, {}, "'server.max_bodies_in_flight_mb' must be at least 'server.max_upload_mb'");

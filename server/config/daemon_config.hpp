@@ -53,6 +53,11 @@ struct DaemonConfig {
   int max_connections = 512;            // HTTP and WebSocket at once; more are answered 503 and closed
   int max_connections_per_address = 64;
   std::size_t max_bodies_in_flight_bytes = 256u << 20;  // request bodies being read at once (503 beyond)
+  // Behind a reverse proxy: the proxies whose X-Forwarded-For/-Proto/-Host/-Prefix are believed
+  // (addresses or networks), and the path prefix salientd is served under when the proxy does
+  // not send X-Forwarded-Prefix ("" : the root). See deploy/nginx/salient.conf.
+  std::vector<std::string> trusted_proxies;
+  std::string base_path;
   int workers = 1;
   int queue_limit = 32;
   // Where the web page's JavaScript libraries are read from (Debian's libjs-three and

@@ -20,7 +20,13 @@ struct HttpRequest {
   std::map<std::string, std::string> query;    // decoded
   std::map<std::string, std::string> headers;  // names in lower case
   std::string body;
-  std::string remote;  // peer address
+  std::string
+      remote;  // the client's address: the peer's, or a trusted proxy's X-Forwarded-For (client_address.hpp)
+  // The URL the client used, where a trusted proxy says so: its scheme, and the path prefix the
+  // proxy serves salientd under ("" at the root; [server] base_path otherwise). The "host" header
+  // is the proxy's X-Forwarded-Host when it sent one.
+  std::string scheme = "http";
+  std::string base_path;
   // Who called: set by the router on a keyed route once the key is checked; empty on open routes.
   std::optional<Principal> caller;
 

@@ -13,6 +13,7 @@
 #include <memory>
 #include <string>
 
+#include "server/http/client_address.hpp"
 #include "server/http/router.hpp"
 #include "server/http/websocket_channel.hpp"
 
@@ -31,8 +32,12 @@ struct HttpServerOptions {
   std::size_t max_bodies_in_flight = 256u << 20;
   std::function<void(const std::string&)> log;  // one line, for the daemon's log
   // Called after each response: method (one of the HTTP verbs, or "OTHER"), route name, status,
-  // seconds (for logs and metrics).
-  std::function<void(const std::string&, const std::string&, int, double)> on_response;
+  // seconds, the client's address (for logs and metrics).
+  std::function<void(const std::string&, const std::string&, int, double, const std::string&)> on_response;
+  // Behind a reverse proxy: whose X-Forwarded-* headers are believed, and the path prefix
+  // Location headers get when no trusted proxy names one (client_address.hpp).
+  TrustedProxies trusted_proxies;
+  std::string base_path;
   // Upgrade requests by path: exact ("/api/v1/events", "/sockjs/websocket"), or a prefix when
   // the key ends with "/*" ("/sockjs/*": the acceptor checks the rest; an exact key wins, then
   // the longest prefix). An upgrade to any other path is served as a plain HTTP request (the

@@ -9,6 +9,7 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket/rfc6455.hpp>
+#include <ctime>
 #include <optional>
 
 #include "server/http/http_shared.hpp"
@@ -23,6 +24,16 @@ namespace websocket = beast::websocket;
 // a while: closing with unread bytes resets the connection, and the client may lose the response.
 constexpr std::size_t kLingerBytes = 1u << 20;
 constexpr std::chrono::seconds kLingerTime{2};
+
+// RFC 9110 §6.6.1: a server with a clock sends Date; `salient doctor` compares it with its own.
+std::string http_date_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char text[40];
+  std::strftime(text, sizeof text, "%a, %d %b %Y %H:%M:%S GMT", &tm);
+  return text;
+}
 
 void set_cloexec(int fd) {
   if (fd >= 0) ::fcntl(fd, F_SETFD, ::fcntl(fd, F_GETFD) | FD_CLOEXEC);
@@ -124,7 +135,7 @@ class Session : public std::enable_shared_from_this<Session> {
       std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
       request_.headers[name] = std::string(field.value());
     }
-    request_.remote = slot_->address();
+    forwarded(slot_->address());
     // RFC 9112 §6.3: a request whose codings do not end with chunked has no knowable length; its
     // bytes must not be read as the next request (smuggling). 400, and the connection goes.
     if (in.find(http::field::transfer_encoding) != in.end() && !parser_->chunked())
@@ -199,6 +210,22 @@ class Session : public std::enable_shared_from_this<Session> {
     return best;
   }
 
+  // The client's address and URL: the peer's own, unless it is a trusted proxy (client_address.hpp).
+  void forwarded(const std::string& peer) {
+    const TrustedProxies& trusted = shared_.options.trusted_proxies;
+    const bool proxy = trusted.trusts(peer);
+    request_.remote = client_address(peer, request_.header("x-forwarded-for"), trusted);
+    request_.base_path = base_path_of(proxy, request_.header("x-forwarded-prefix"),
+                                      request_.header("x-script-name"), shared_.options.base_path);
+    if (!proxy) return;
+    const std::string proto = request_.header("x-forwarded-proto");
+    if (proto == "https" || proto == "http") request_.scheme = proto;
+    const std::string host = request_.header("x-forwarded-host");
+    if (!host.empty()) request_.headers["host"] = host.substr(0, host.find(','));
+  }
+
+  std::string client() const { return request_.remote.empty() ? slot_->address() : request_.remote; }
+
   // Hands the connection to a WebSocket session; this HTTP session ends here.
   void upgrade(std::shared_ptr<WebSocketChannel> channel, const std::string& subprotocol) {
     upgraded_ = true;  // from here on stream_ is the WebSocket's
@@ -206,7 +233,7 @@ class Session : public std::enable_shared_from_this<Session> {
       std::lock_guard lock(shared_.mutex);
       shared_.sessions.erase(shared_from_this());
     }
-    if (shared_.options.on_response) shared_.options.on_response(method_, route_, 101, elapsed());
+    if (shared_.options.on_response) shared_.options.on_response(method_, route_, 101, elapsed(), client());
     start_websocket(stream_.release_socket(), std::move(channel), shared_, std::move(slot_), request_,
                     subprotocol);
   }
@@ -217,7 +244,7 @@ class Session : public std::enable_shared_from_this<Session> {
     const bool head = parser_->is_header_done() && parser_->get().method() == http::verb::head;
     write(std::move(response), head);
     if (shared_.options.on_response)
-      shared_.options.on_response(method_, route_, response_status_, elapsed());
+      shared_.options.on_response(method_, route_, response_status_, elapsed(), client());
   }
 
   // A request that could not be read: the stream is not in a known state any more.
@@ -226,15 +253,21 @@ class Session : public std::enable_shared_from_this<Session> {
     keep_alive_ = false;
     if (route_ == "unmatched") route_ = "invalid";
     write(error_response(status, code, message), false);
-    if (shared_.options.on_response) shared_.options.on_response(method_, route_, status, elapsed());
+    if (shared_.options.on_response)
+      shared_.options.on_response(method_, route_, status, elapsed(), client());
   }
 
   void write(HttpResponse r, bool head) {
     response_status_ = r.status;
     auto out = std::make_shared<http::response<http::string_body>>(static_cast<http::status>(r.status), 11);
     out->set(http::field::server, "salientd");
+    out->set(http::field::date, http_date_now());
     out->set(http::field::content_type, r.content_type);
-    for (const auto& [name, value] : r.headers) out->set(name, value);
+    for (const auto& [name, value] : r.headers) {
+      // A path in Location is the client's: under the proxy's prefix ("/salient/api/v1/jobs/…").
+      const bool path = name == "Location" && value.size() > 1 && value[0] == '/' && value[1] != '/';
+      out->set(name, path ? request_.base_path + value : value);
+    }
     out->keep_alive(keep_alive_);
     out->body() = std::move(r.body);
     out->prepare_payload();

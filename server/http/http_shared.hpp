@@ -54,7 +54,9 @@ class ConnectionSlot {
     if (shared.connections >= shared.options.max_connections)
       why = "the connection limit (" + std::to_string(shared.options.max_connections) +
             ", server.max_connections)";
-    else if (shared.per_address[address] >= shared.options.max_connections_per_address)
+    // A trusted proxy carries every client's connections: only the overall limit applies to it.
+    else if (shared.per_address[address] >= shared.options.max_connections_per_address &&
+             !shared.options.trusted_proxies.trusts(address))
       why = "the limit of " + std::to_string(shared.options.max_connections_per_address) +
             " connections from " + address + " (server.max_connections_per_address)";
     if (!why.empty()) {

@@ -104,6 +104,15 @@ class Printer {
     std::chrono::steady_clock::time_point last_notify{}, last_save = std::chrono::steady_clock::now();
     std::chrono::steady_clock::time_point saves_paused_until{};  // after a full disk
   };
+  // Replug (printer_replug.cpp): a serial printer whose link went away by itself (unplugged, the
+  // board reset, the device not there at start) is connected again when its device path is back.
+  struct Replug {
+    bool present = true;  // the device path existed at the last look
+    std::chrono::steady_clock::time_point last_try{};
+    std::string tried;  // the device node last tried (printer_replug.cpp: identity())
+  };
+  static constexpr std::chrono::seconds kReplugPoll{2};
+  void poll_replug(Replug& replug);
   using EventFn = std::function<void(const protocol::LinkEvent&)>;
   // printer.cpp: what other threads call.
   long long start_print(const PrintRequest& request);
@@ -140,6 +149,10 @@ class Printer {
   bool print_streaming_ = false;
   bool pause_pending_ = false;     // paused before it began to stream: the link is told when it does
   bool commands_running_ = false;  // console commands are being streamed
+  // The thread's alone: the printer should be connected (a connect was asked for, and no
+  // disconnect, emergency stop or firmware failure since), so a lost link is reconnected when
+  // the device is back.
+  bool replug_ = false;
 
   std::unique_ptr<SimProcess> sim_;
   std::unique_ptr<protocol::PrinterLink> link_;  // owned by the thread; pointer read under mutex_

@@ -42,9 +42,19 @@ void Printer::set_state(PrinterState state, const std::string& error) {
 void Printer::run() {
   Throttle throttle;
   const EventFn on_event = [this, &throttle](const LinkEvent& e) { handle_event(e, throttle); };
+  Replug replug;
   for (;;) {
     std::unique_lock lock(mutex_);
-    if (!link_) wake_.wait(lock, [&] { return stopping_ || queue_.connect_waiting(); });
+    if (!link_) {
+      const auto ready = [&] { return stopping_ || queue_.connect_waiting(); };
+      if (!replug_)
+        wake_.wait(lock, ready);
+      else if (!wake_.wait_for(lock, kReplugPoll, ready)) {
+        lock.unlock();
+        poll_replug(replug);
+        continue;
+      }
+    }
     if (stopping_) break;
     // A print paused before it began stays in the queue until resumed: nothing of it goes.
     std::optional<PrinterCommand> next = queue_.take(link_ != nullptr, pause_pending_);
@@ -60,9 +70,17 @@ void Printer::run() {
       }
       continue;
     }
-    std::visit(Overloaded{[&](const ConnectCommand&) { open_link(); },
-                          [&](const DisconnectCommand&) { close_link(PrinterState::disconnected, ""); },
+    std::visit(Overloaded{[&](const ConnectCommand&) {
+                            replug_ = config_.kind == PrinterKind::serial;
+                            replug = Replug{};
+                            open_link();
+                          },
+                          [&](const DisconnectCommand&) {
+                            replug_ = false;
+                            close_link(PrinterState::disconnected, "");
+                          },
                           [&](const EmergencyStopCommand&) {
+                            replug_ = false;  // a halted board waits for a person
                             try {
                               link_->halt_now();
                             } catch (const LinkError&) {
@@ -86,8 +104,10 @@ void Printer::run_console(const std::vector<std::string>& lines, const EventFn& 
     }
     if (r.disconnected)
       close_link(PrinterState::error, r.reason);
-    else if (r.end == PrintEnd::failed)
+    else if (r.end == PrintEnd::failed) {
+      replug_ = false;  // the firmware failed (halted, a kill): a person looks first, not a reconnect
       close_link(PrinterState::error, r.reason == "emergency stop" ? kHalted : r.reason);
+    }
   } catch (const LinkError& e) {
     {
       std::lock_guard done(mutex_);
@@ -289,8 +309,10 @@ void Printer::run_print(const PrintCommand& print, const EventFn& on_event) {
   }
   if (result.disconnected)
     return close_link(PrinterState::error, "link lost during the print: " + result.reason);
-  if (streamed && result.end == PrintEnd::failed)
+  if (streamed && result.end == PrintEnd::failed) {
+    replug_ = false;  // the firmware failed (halted, thermal runaway): a person looks first, not a reconnect
     return close_link(PrinterState::error, result.reason.empty() ? "the print failed" : result.reason);
+  }
   notify(false);
 }
 

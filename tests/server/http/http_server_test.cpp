@@ -281,7 +281,8 @@ TEST_CASE("an unknown method is one label for metrics, whatever its bytes") {
   std::vector<std::string> methods;
   std::mutex m;
   Running s(1 << 20, [&](Running& r) {
-    r.options.on_response = [&](const std::string& method, const std::string&, int, double) {
+    r.options.on_response = [&](const std::string& method, const std::string&, int, double,
+                                const std::string&) {
       std::lock_guard lock(m);
       methods.push_back(method);
     };
