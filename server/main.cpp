@@ -273,7 +273,7 @@ int main(int argc, char** argv) {
     if (backup_cmd->parsed() || restore_cmd->parsed()) {
       const DaemonConfig c = config.empty() ? default_daemon_config() : load_daemon_config(config);
       if (!database.empty() || !c.store_url.empty())
-        if (DatabaseUrl::parse(database.empty() ? c.store_url : database).dialect() == Dialect::postgresql)
+        if (DatabaseUrl::parse(database.empty() ? c.store_url : database).dialect == Dialect::postgresql)
           throw salient::core::InputError(
               "--database", {},
               "the store is PostgreSQL: back it up with pg_dump and restore with pg_restore (README, \"Farm\")");

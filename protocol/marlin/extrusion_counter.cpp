@@ -23,7 +23,15 @@ void ExtrusionCounter::step(const std::string& command, bool count) {
     inches_ = false;
   } else if (code == "G92") {
     if (auto e = word_value(command, 'E')) e_ = *e * (inches_ ? 25.4 : 1);
+    if (auto z = word_value(command, 'Z')) z_ = *z * (inches_ ? 25.4 : 1);
+  } else if (code == "G28") {
+    const bool any = word_value(command, 'X') || word_value(command, 'Y') || word_value(command, 'Z');
+    if (!any || word_value(command, 'Z')) z_ = 0;
   } else if (code == "G0" || code == "G1" || code == "G2" || code == "G3") {
+    if (const auto z = word_value(command, 'Z')) {
+      const double v = *z * (inches_ ? 25.4 : 1);
+      z_ = relative_ ? z_.value_or(0) + v : v;
+    }
     const auto e = word_value(command, 'E');
     if (!e) return;
     const double v = *e * (inches_ ? 25.4 : 1);

@@ -268,9 +268,11 @@ bool PushHub::publish_progress(Printer& printer, const std::vector<std::shared_p
 // The printer's part of `current`: state, job, progress, currentZ, offsets, resends, busyFiles.
 std::shared_ptr<const std::string> PushHub::current_part(Printer& printer, const PrinterStatus& s) {
   std::string selected;
+  json offsets = json::object();
   {
     std::lock_guard lock(octo_.mutex);
     selected = octo_.selected;
+    for (const auto& [name, value] : octo_.offsets) offsets[name] = value;
   }
   const std::string name = s.print ? s.print->record.filename : selected;
   std::optional<StoredFile> file;
@@ -295,8 +297,8 @@ std::shared_ptr<const std::string> PushHub::current_part(Printer& printer, const
       {"state", state_json(s)},
       {"job", print_job_json(s, selected, file, analysis)},
       {"progress", progress_json(s)},
-      {"currentZ", nullptr},
-      {"offsets", json::object()},
+      {"currentZ", s.print && s.print->z ? json(*s.print->z) : json(nullptr)},
+      {"offsets", offsets},
       {"resends",
        {{"count", n.lines_resent},
         {"transmitted", n.lines_sent},

@@ -122,6 +122,7 @@ PrinterStatus Printer::status_locked() const {
     p.record.total = current_->total;
     const PrintUsage usage = current_->usage();
     p.record.filament_mm = usage.filament_mm, p.record.paused_seconds = usage.paused_seconds;
+    if (current_->extruded) p.z = current_->extruded->z_mm();
     p.elapsed = std::chrono::duration<double>(Clock::now() - current_->started).count();
     p.file_bytes = current_->file_bytes;
     p.filepos = p.file_bytes;

@@ -33,6 +33,7 @@ struct PrinterStatus {
     // Bytes of the file done (where the first unconfirmed command's line starts; the whole file
     // once all are confirmed) and the file's size: OctoPrint's progress.filepos counts bytes.
     std::size_t filepos = 0, file_bytes = 0;
+    std::optional<double> z;  // the nozzle's height at the last confirmed command, by the file
     double fraction() const {
       return record.total > 0 ? double(record.confirmed) / double(record.total) : 0.0;
     }

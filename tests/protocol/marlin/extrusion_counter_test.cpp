@@ -5,6 +5,7 @@
 
 #include <random>
 #include <string>
+#include <vector>
 
 #include "core/gcode/time_estimator.hpp"
 
@@ -87,4 +88,19 @@ TEST_CASE("retractions net out, G92 resets, relative modes and inches are follow
   CHECK(c.advance_to(12) == doctest::Approx(0.5));         // M83
   CHECK(c.advance_to(14) == doctest::Approx(1));           // from E10 to E11
   CHECK(c.advance_to(p.size()) == doctest::Approx(2.54));  // G20: 0.1 inch
+}
+
+TEST_CASE("the nozzle's height follows G0/G1 Z, G91, G92 Z, G28 and inches") {
+  const Program p = Program::parse(
+      "M104 S200\nG28\nG1 Z5 F600\nG1 X1 Y1 E1\nG91\nG1 Z0.2\nG90\nG92 Z10\nG28 X\nG1 Z12\nG28 Z\n"
+      "G20\nG1 Z1\n");
+  ExtrusionCounter c(p);
+  c.advance_to(1);
+  CHECK(!c.z_mm());  // nothing told yet
+  const std::vector<double> want = {0, 5, 5, 5, 5.2, 5.2, 10, 10, 12, 0, 0, 25.4};
+  for (std::size_t i = 0; i < want.size(); ++i) {
+    c.advance_to(i + 2);
+    REQUIRE(c.z_mm());
+    CHECK(*c.z_mm() == doctest::Approx(want[i]));
+  }
 }

@@ -48,6 +48,8 @@ def fail(message):
 # printer s; comments and blank lines between them make lines, commands and bytes all differ.
 lines = ["; push socket test", "G28", "M104 S0", "G90", ""]
 for i in range(400):
+    if i % 100 == 0:  # four layers: currentZ rises 0.2 … 0.8
+        lines.append(f"G1 Z{0.2 * (i // 100 + 1):.1f} F600")
     lines.append(f"G1 X{10 + (i % 2) * 10} Y{10 + (i // 2) % 50} F3000 ; move {i}")
     if i % 7 == 0:
         lines.append("; a comment line")
@@ -236,6 +238,12 @@ for _, c in printing:
         fail(f"filepos {pos} is not a byte offset at a line's start in {len(gcode)} bytes")
     if c["job"]["file"]["size"] != len(gcode):
         fail(f"job.file.size {c['job']['file']['size']} != {len(gcode)}")
+heights = [c["currentZ"] for _, c in printing]
+while heights and heights[0] is None:  # not known before the first confirmed command, as OctoPrint's
+    heights.pop(0)
+if (not all(isinstance(z, (int, float)) for z in heights) or sorted(heights) != heights
+        or len(set(heights)) < 2 or not 0 <= heights[0] and heights[-1] <= 0.8 + 1e-9):
+    fail(f"currentZ does not follow the file's heights (G28 then 0.2 … 0.8): {heights}")
 if max(c["progress"]["filepos"] for _, c in printing) <= len(lines):
     fail("filepos never passed the number of lines: it counts lines, not bytes")
 if not any(t.get("tool0", {}).get("actual") is not None for _, c in first_print for t in c["temps"]):
