@@ -274,9 +274,9 @@ int main(int argc, char** argv) {
       const DaemonConfig c = config.empty() ? default_daemon_config() : load_daemon_config(config);
       if (!database.empty() || !c.store_url.empty())
         if (DatabaseUrl::parse(database.empty() ? c.store_url : database).dialect == Dialect::postgresql)
-          throw salient::core::InputError(
-              "--database", {},
-              "the store is PostgreSQL: back it up with pg_dump and restore with pg_restore (README, \"Farm\")");
+          throw salient::core::InputError("--database", {},
+                                          "the store is PostgreSQL: back it up with pg_dump and restore with "
+                                          "pg_restore (README, \"Farm\")");
     }
     if (backup_cmd->parsed()) return backup(data_dir_of(config, data), dest);
     if (restore_cmd->parsed()) return restore(src, data_dir_of(config, data), force);
