@@ -68,17 +68,7 @@ unit_start() {
   echo "ExecStart: $exec_start (as $user:$group, groups $supplementary, umask $mask)"
   chmod 755 "$PWD"
   rm -f notify.sock notify.log
-  /usr/bin/python3 - "$PWD/notify.sock" > notify.log 2>&1 <<'PY' &
-import os, socket, sys
-s = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
-s.bind(sys.argv[1]); os.chmod(sys.argv[1], 0o666)
-s.settimeout(600)
-while True:
-    message = s.recv(4096).decode()
-    print(message.replace("\n", " "), flush=True)
-    if "STOPPING=1" in message:
-        break
-PY
+  /usr/bin/python3 "$(dirname "${BASH_SOURCE[0]}")/../support/notify_listener.py" "$PWD/notify.sock" > notify.log 2>&1 &
   listener=$!
   for _ in $(seq 50); do [ -S notify.sock ] && break; sleep 0.1; done
   : > "$log"

@@ -37,17 +37,7 @@ stop() {
 }
 
 # 1. Under systemd: notifications, and lines as the journal wants them.
-/usr/bin/python3 - "$work/notify.sock" > notify.log 2>&1 <<'PY' &
-import socket, sys
-s = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
-s.bind(sys.argv[1])
-s.settimeout(120)
-while True:
-    message = s.recv(4096).decode()
-    print(message.replace("\n", " "), flush=True)
-    if "STOPPING=1" in message:
-        break
-PY
+/usr/bin/python3 "$(dirname "$0")/../support/notify_listener.py" "$work/notify.sock" 120 > notify.log 2>&1 &
 listener=$!
 for _ in $(seq 50); do [ -S notify.sock ] && break; sleep 0.1; done
 : > journal.log

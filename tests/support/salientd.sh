@@ -23,6 +23,17 @@ start() {
 }
 stop() { kill -TERM "$pid"; wait "$pid" || true; pid=; }
 
+# wait_state ID STATE: until job ID is in STATE (a job ending in another state fails the test).
+wait_state() {  # wait_state ID STATE
+  for _ in $(seq 1200); do
+    s=$(curl -s -H "X-Api-Key: $key" "$base/api/v1/jobs/$1" | field "['state']")
+    [ "$s" = "$2" ] && return 0
+    case $s in done|failed|cancelled) fail "job $1 ended $s, expected $2";; esac
+    sleep 0.1
+  done
+  fail "job $1 never reached $2"
+}
+
 # sim_config FILE SIM_ARGS: one simulated printer "sim" with these salient-sim arguments.
 sim_config() {
   cat > "$1" <<TOML

@@ -24,15 +24,6 @@ expect() {  # expect STATUS CODE CURL-ARGS…: the status and the error code of 
   [ "$got" = "$status" ] || fail "expected $status for $*, got $got: $(cat body.json)"
   [ "$(field "['error']['code']" < body.json)" = "$code" ] || fail "expected error code $code, got $(cat body.json)"
 }
-wait_state() {  # wait_state ID STATE
-  for _ in $(seq 1200); do
-    s=$(curl -s -H "X-Api-Key: $key" "$base/api/v1/jobs/$1" | field "['state']")
-    [ "$s" = "$2" ] && return 0
-    case $s in done|failed|cancelled) fail "job $1 ended $s, expected $2";; esac
-    sleep 0.1
-  done
-  fail "job $1 never reached $2"
-}
 
 # The simulated printer: instant moves and heating, its executed commands logged.
 sim_config sim.toml "--advanced-ok --emergency-parser --autoreport --time-scale 0 --log $PWD/sim.log"

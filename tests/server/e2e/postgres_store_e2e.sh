@@ -22,15 +22,6 @@ name=e2e_$$
 psql -X -q "$cluster/postgres" -c "DROP DATABASE IF EXISTS $name" -c "CREATE DATABASE $name"
 database="$cluster/$name"
 
-wait_state() {  # wait_state ID STATE
-  for _ in $(seq 1200); do
-    s=$(curl -s -H "X-Api-Key: $key" "$base/api/v1/jobs/$1" | field "['state']")
-    [ "$s" = "$2" ] && return 0
-    case $s in done|failed|cancelled) fail "job $1 ended $s, expected $2";; esac
-    sleep 0.1
-  done
-  fail "job $1 never reached $2"
-}
 
 sim_config sim.toml "--time-scale 0"
 start sim.toml node1
