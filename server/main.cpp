@@ -82,6 +82,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   if (!data.empty()) config.data_dir = data;
   if (!database.empty()) config.store_url = database;
   if (!listen.empty()) config.listen = listen;
+  if (config.node.id.empty()) config.node.id = default_node_id();
   const std::size_t colon = config.listen.rfind(':');
   if (colon == std::string::npos)
     throw salient::core::InputError("--listen", {}, "expected ADDRESS:PORT, got '" + config.listen + "'");

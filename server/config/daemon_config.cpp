@@ -1,6 +1,9 @@
 #include "server/config/daemon_config.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <optional>
@@ -68,7 +71,44 @@ void read_proxy_settings(TableReader& r, DaemonConfig& c, const std::string& sou
   c.base_path = *normal;
 }
 
+void read_node_settings(TableReader& r, NodeConfig& node, const std::string& source) {
+  r.text("id", node.id);
+  if (node.id.size() > 64 ||
+      node.id.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789-_.") !=
+          std::string::npos)
+    throw InputError(source, {},
+                     "'node.id' must be at most 64 letters, digits, '-', '_' or '.', got '" + node.id + "'");
+  if (const toml::array* roles = r.array("roles", "an array of roles (\"api\", \"slicer\", \"printers\")")) {
+    node.roles = {false, false, false};
+    for (const toml::node& n : *roles) {
+      const InputLocation at = InputLocation::at_line(core::line_of(n));
+      const std::optional<std::string> role = n.value<std::string>();
+      if (role == "api")
+        node.roles.api = true;
+      else if (role == "slicer")
+        node.roles.slicer = true;
+      else if (role == "printers")
+        node.roles.printers = true;
+      else
+        throw InputError(source, at, "'node.roles' entries are \"api\", \"slicer\" or \"printers\"");
+    }
+    if (!node.roles.api && !node.roles.slicer && !node.roles.printers)
+      throw InputError(source, {}, "'node.roles' is empty: a node needs at least one role");
+  }
+  r.number("lease_seconds", node.lease_seconds, 1.0, 3600.0);
+  r.integer("max_attempts", node.max_attempts, 1, 100);
+}
+
 }  // namespace
+
+std::string default_node_id() {
+  char name[256] = {};
+  if (gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "local";
+  std::string id(name);
+  for (char& ch : id)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.') ch = '_';
+  return id.substr(0, 64);
+}
 
 DaemonConfig default_daemon_config() {
   return DaemonConfig{};
@@ -117,6 +157,7 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
     r.boolean("enabled", c.zeroconf);
     r.text("name", c.zeroconf_name);
   });
+  core::read_section(top, "node", source, [&](TableReader& r) { read_node_settings(r, c.node, source); });
   // DNS-SD instance names are one label: at most 63 bytes, no control characters.
   if (c.zeroconf_name.size() > 63 || std::any_of(c.zeroconf_name.begin(), c.zeroconf_name.end(),
                                                  [](unsigned char ch) { return ch < 0x20 || ch == 0x7f; }))

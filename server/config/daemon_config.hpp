@@ -38,6 +38,27 @@ inline PrinterConfig sim_printer() {
   return p;
 }
 
+// [node]: this salientd in a farm of several on one PostgreSQL. Roles: "api" serves HTTP and
+// WebSockets, "slicer" claims slicing jobs, "printers" drives the printers configured here. One
+// node on SQLite has them all.
+struct NodeRoles {
+  bool api = true;
+  bool slicer = true;
+  bool printers = true;
+};
+
+struct NodeConfig {
+  std::string id;  // unique in the farm; empty: the host name
+  NodeRoles roles;
+  // A slicer holds a claimed job by renewing its lease; a node that has not renewed within this
+  // is taken as dead: its jobs go back to the queue, its printers show offline.
+  double lease_seconds = 15;
+  int max_attempts = 3;  // a job whose slicer died this many times fails instead (the reasons kept)
+};
+
+// The host name, as a node id ("local" when it has none).
+std::string default_node_id();
+
 struct DaemonConfig {
   std::string listen = "127.0.0.1:8080";
   std::string data_dir = "var";
@@ -67,6 +88,7 @@ struct DaemonConfig {
   // so that Cura and phone apps find it. Off by default: a daemon on loopback has no one to tell.
   bool zeroconf = false;
   std::string zeroconf_name;  // empty: "salient on HOSTNAME"
+  NodeConfig node;
   std::vector<PrinterConfig> printers = {sim_printer()};
 };
 

@@ -22,6 +22,10 @@ TEST_CASE("the shipped config/salientd.toml is exactly the embedded defaults") {
   CHECK(shipped.max_connections_per_address == d.max_connections_per_address);
   CHECK(shipped.max_bodies_in_flight_bytes == d.max_bodies_in_flight_bytes);
   CHECK(shipped.web_vendor_dir == d.web_vendor_dir);
+  CHECK(shipped.node.id == d.node.id);
+  CHECK(shipped.node.lease_seconds == d.node.lease_seconds);
+  CHECK(shipped.node.max_attempts == d.node.max_attempts);
+  CHECK((shipped.node.roles.api && shipped.node.roles.slicer && shipped.node.roles.printers));
   REQUIRE(shipped.printers.size() == 1);
   CHECK(shipped.printers[0].id == "sim");
   CHECK(shipped.printers[0].kind == PrinterKind::sim);
@@ -143,4 +147,28 @@ TEST_CASE("the store section names the database and the shared files, else SQLit
                        doctest::Contains("'store.url': unknown database URL scheme 'mysql'"), InputError);
   CHECK_THROWS_WITH_AS(parse_daemon_config("[store]\nuri = \"x\"\n", "d.toml"),
                        "d.toml:2: unknown key 'store.uri'", InputError);
+}
+
+TEST_CASE("the node section gives the farm id and roles, and without it a node has every role") {
+  const DaemonConfig d = default_daemon_config();
+  CHECK(d.node.id.empty());
+  CHECK((d.node.roles.api && d.node.roles.slicer && d.node.roles.printers));
+  CHECK(!default_node_id().empty());
+  const DaemonConfig c = parse_daemon_config(
+      "[node]\nid = \"farm-b\"\nroles = [\"slicer\", \"printers\"]\nlease_seconds = 4\nmax_attempts = 5\n",
+      "d.toml");
+  CHECK(c.node.id == "farm-b");
+  CHECK(!c.node.roles.api);
+  CHECK(c.node.roles.slicer);
+  CHECK(c.node.roles.printers);
+  CHECK(c.node.lease_seconds == 4);
+  CHECK(c.node.max_attempts == 5);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[node]\nroles = [\"api\", \"web\"]\n", "d.toml"),
+                       doctest::Contains("'node.roles' entries are"), InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[node]\nroles = []\n", "d.toml"),
+                       doctest::Contains("'node.roles' is empty"), InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[node]\nid = \"a b\"\n", "d.toml"),
+                       doctest::Contains("'node.id'"), InputError);
+  CHECK_THROWS_WITH_AS(parse_daemon_config("[node]\nlease_seconds = 0\n", "d.toml"),
+                       doctest::Contains("node.lease_seconds"), InputError);
 }
