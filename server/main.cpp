@@ -166,13 +166,13 @@ int serve(const std::string& config_path, const std::string& data, const std::st
               "the server's disk is full: nothing was stored; try again when space has been freed");
         return std::nullopt;
       });
-  add_system_routes(router);
+  add_system_routes(router, store, config.node, log_line);
   add_job_routes(router, store, jobs, printers, config);
   add_printer_routes(router, printers, store, config);
   add_octoprint_routes(router, store, printers, config, octo, sessions, hub);
   AppKeyRequests app_key_requests;
   add_auth_routes(router, keys, sessions, app_key_requests);
-  add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache());
+  add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache(), config.node);
   add_event_route(router);
   add_sockjs_routes(router);
   add_web_routes(router, config);

@@ -32,6 +32,30 @@ Check clock_check(const std::string& date) {
           "sessions and print times depend on it)"};
 }
 
+// What /healthz says of salientd's database: its kind, schema and round trip; 503 when it does not
+// answer (the farm's PostgreSQL down, or a wrong [store] url).
+Check database_check(const std::string& body) {
+  const json h = json::parse(body, nullptr, false);
+  if (!h.is_object() || !h.contains("database") || !h["database"].is_object())
+    return {Verdict::warn, "database", "salientd does not report its database (an older salientd?)", ""};
+  const json& d = h["database"];
+  if (h.value("status", "") != "ok" || !d.contains("kind"))
+    return {
+        Verdict::fail, "database", "salientd cannot reach its database",
+        "check [store] url in /etc/salient/salientd.toml and that the database runs (a farm's PostgreSQL: "
+        "systemctl status postgresql, pg_isready -h HOST); salientd's log has the error "
+        "(journalctl -u salientd)"};
+  const std::string node = h.value("node", "");
+  std::string found = d.value("kind", "") + " answers in " + std::to_string(d.value("ms", 0.0)).substr(0, 5) +
+                      " ms, schema " + std::to_string(d.value("schema", 0)) +
+                      (node.empty() ? "" : " (node " + node + ")");
+  if (d.value("schema", 0) != d.value("latest_schema", 0))
+    return {Verdict::warn, "database",
+            found + ", but this salientd expects schema " + std::to_string(d.value("latest_schema", 0)),
+            "upgrade every node of the farm to the same salient version"};
+  return {Verdict::ok, "database", found, ""};
+}
+
 Check printer_check(const json& p) {
   const std::string id = p.value("id", "?"), state = p.value("state", "?");
   const std::string error =
@@ -76,6 +100,11 @@ std::vector<Check> daemon_checks(const Options& o) {
   try {
     health = client.request("GET", "/healthz");
   } catch (const DaemonError& e) {
+    if (e.status() == 503) {  // salientd runs; its database does not answer
+      out.push_back({Verdict::ok, "daemon", "salientd answers at " + where, ""});
+      out.push_back(database_check(R"({"status": "unavailable", "database": {}})"));
+      return out;
+    }
     out.push_back({Verdict::fail, "daemon", e.what(),
                    "start salientd (sudo systemctl start salientd, or make run in a checkout); if it runs "
                    "elsewhere: --server http://HOST:PORT or $SALIENT_SERVER"});
@@ -83,6 +112,7 @@ std::vector<Check> daemon_checks(const Options& o) {
   }
   out.push_back({Verdict::ok, "daemon", "salientd answers at " + where, ""});
   out.push_back(clock_check(health.date));
+  out.push_back(database_check(health.body));
   if (address.key.empty()) {
     out.push_back({Verdict::fail, "key", "no API key given",
                    "--key KEY or $SALIENT_API_KEY; the first key is in the data directory's api-key file "

@@ -6,11 +6,23 @@
 namespace salient::server {
 
 void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
-                       const EventHub& hub, const core::SaliencyCache& saliency) {
+                       const EventHub& hub, const core::SaliencyCache& saliency, const NodeConfig& node) {
   router.add(
       "GET", "/metrics", Access::key,
-      [&metrics, &store, &printers, &hub, &saliency](const HttpRequest&, const PathParams&) {
-        std::string out = metrics.render();
+      [&metrics, &store, &printers, &hub, &saliency, node](const HttpRequest&, const PathParams&) {
+        // Which farm node this is (Prometheus' own `instance` label is its address): an info gauge,
+        // joined on by queries that need the node.
+        std::string roles;
+        for (const auto& [on, name] : {std::pair{node.roles.api, "api"},
+                                       {node.roles.slicer, "slicer"},
+                                       {node.roles.printers, "printers"}})
+          if (on) roles += (roles.empty() ? "" : ",") + std::string(name);
+        std::string out =
+            "# HELP salient_node_info This salientd's farm node id and roles.\n# TYPE salient_node_info "
+            "gauge\n"
+            "salient_node_info{node=\"" +
+            prometheus_label(node.id) + "\",roles=\"" + roles + "\"} 1\n";
+        out += metrics.render();
         JobStore jobs(store.db());
         out += "# HELP salient_jobs Jobs in the database, by state.\n# TYPE salient_jobs gauge\n";
         for (const auto& [s, name] : job_state_names)  // every state, even with no job in it

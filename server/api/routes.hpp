@@ -15,8 +15,10 @@
 
 namespace salient::server {
 
-// /healthz, /api/version (open).
-void add_system_routes(Router& router);
+// /healthz (the node, and its database answering: 503 when it does not, the reason to `log`) and
+// /api/version; both open.
+void add_system_routes(Router& router, Store& store, const NodeConfig& node,
+                       std::function<void(const std::string&)> log = {});
 // /api/v1/jobs…: submit (and print once sliced: the `print` field), list, get, cancel/remove,
 // artefacts.
 void add_job_routes(Router& router, Store& store, JobService& jobs, PrinterService& printers,
@@ -38,9 +40,9 @@ void add_auth_routes(Router& router, ApiKeys& keys, Sessions& sessions, AppKeyRe
 // The web page (open): / and /web/{file} from the binary, /vendor/{three,chart.js}/… from
 // config.web_vendor_dir.
 void add_web_routes(Router& router, const DaemonConfig& config);
-// /metrics (Prometheus text).
+// /metrics (Prometheus text), with this node's id (salient_node_info).
 void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
-                       const EventHub& hub, const core::SaliencyCache& saliency);
+                       const EventHub& hub, const core::SaliencyCache& saliency, const NodeConfig& node);
 
 // The WebSocket /api/v1/events (keyed; ?topics=a,b subscribes at once), and 426 for a plain GET.
 void add_event_route(Router& router);

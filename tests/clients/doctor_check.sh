@@ -49,6 +49,7 @@ line ok daemon "answers"
 line ok key "accepted"
 line ok "printer usb" "operational"
 line ok clock "(0|1) s"
+line ok database "sqlite answers in [0-9.]+ ms, schema [0-9]+ \\(node "
 line ok disk "MB free"
 
 echo "a wrong key:"

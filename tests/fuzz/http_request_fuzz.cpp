@@ -60,7 +60,7 @@ struct Daemon {
 
   Daemon() : dir(make_dir()), store(dir), keys(with_key(store)), websocket(events_endpoint(hub, keys)) {
     router.set_authenticator([this](const HttpRequest& r) { return keys.authenticate(r); });
-    add_system_routes(router);
+    add_system_routes(router, store, NodeConfig{});
     add_event_route(router);
     router.add("POST", "/api/v1/jobs", Access::key, [](const HttpRequest& r, const PathParams&) {
       std::string filename = "model", settings;
