@@ -96,7 +96,7 @@ grep -q '"subscribed"' events.jsonl || fail "no subscription on n1's /api/v1/eve
 : > jobs.txt
 for i in $(seq 1 30); do
   n=$([ $((i % 2)) = 0 ] && echo n1 || echo n3)
-  if [ $((i % 6)) = 0 ]; then
+  if [ $((i % 10)) = 0 ]; then
     model=stanford-bunny.obj settings="{\"up\": \"y\", \"height\": $((20 + i))}"
   else
     model=cube_binary.ply settings="{\"height\": $((6 + i % 5)).$i, \"saliency\": \"uniform\"}"
