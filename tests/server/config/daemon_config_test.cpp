@@ -172,3 +172,16 @@ TEST_CASE("the node section gives the farm id and roles, and without it a node h
   CHECK_THROWS_WITH_AS(parse_daemon_config("[node]\nlease_seconds = 0\n", "d.toml"),
                        doctest::Contains("node.lease_seconds"), InputError);
 }
+
+TEST_CASE("the farm's example configs load: an api node without printers, a printers node") {
+  const DaemonConfig api = load_daemon_config(SALIENT_SOURCE_DIR "/deploy/farm/api.toml");
+  CHECK(api.node.id == "api-1");
+  CHECK((api.node.roles.api && api.node.roles.slicer && !api.node.roles.printers));
+  CHECK(api.printers.empty());
+  CHECK(api.store_url.rfind("postgresql://", 0) == 0);
+  const DaemonConfig shelf = load_daemon_config(SALIENT_SOURCE_DIR "/deploy/farm/printers.toml");
+  CHECK(shelf.node.id == "shelf-a");
+  CHECK((!shelf.node.roles.api && shelf.node.roles.slicer && shelf.node.roles.printers));
+  CHECK(shelf.printers.size() == 2);
+  CHECK(shelf.store_url == api.store_url);
+}
