@@ -127,7 +127,8 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "a job taken from its node stops there and its outcome is not written; a cancel reaches the other node") {
+    "a job taken from its node stops there and its outcome is not written, and a cancel reaches the other "
+    "node") {
   const salient::test::ScratchDir scratch("farm-lost");
   const DatabaseUrl url = salient::test::test_database(scratch);
   Store store_a(scratch.path / "a", url), store_b(scratch.path / "b", url);
