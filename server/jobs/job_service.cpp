@@ -206,8 +206,9 @@ void JobService::renewer() {
       // Any node reaps: each expired claim is changed by one reaper only (JobStore::reap).
       for (const Job& j : JobStore(store_.db()).reap(options_.max_attempts))
         if (on_change_) on_change_(j);
-    } catch (const StoreError&) {
-      // The database is away: the leases run on; the next period tries again.
+    } catch (const std::exception&) {
+      // The database is away (or a row it could not read): the next period tries again; a
+      // lease this node could not renew may expire meanwhile, and its job is then re-queued.
     }
   }
 }
