@@ -6,7 +6,7 @@
 #          package is missing.
 #   stop:  stop the cluster DIR names and remove it.
 # SALIENT_PG_BIN: the server's bin directory (default: the newest /usr/lib/postgresql/*/bin).
-# SALIENT_PG_FSYNC: on or off (the default).
+# SALIENT_PG_FSYNC: on or off (default off).
 # PostgreSQL refuses to run as root (CI's user), so as root the cluster is run by `nobody`.
 set -euo pipefail
 command=${1:?start or stop}
@@ -45,8 +45,8 @@ case "$command" in
     echo "$bin" >"$dir/bin"
     "${as_owner[@]}" "$bin/initdb" -D "$cluster/data" -U salient --auth=trust -E UTF8 --no-locale \
       >"$cluster/initdb.log" 2>&1 || { cat "$cluster/initdb.log"; exit 1; }
-    # fsync off: a test cluster that dies is thrown away anyway, and the tests run faster.
-    # SALIENT_PG_FSYNC=on: as a real server writes (benchmarks that report it).
+    # fsync off: a test cluster that dies is thrown away anyway, and the tests run faster. The
+    # benchmarks set SALIENT_PG_FSYNC=on: a farm's database syncs its commits.
     for attempt in 1 2 3; do
       port=$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
       if "${as_owner[@]}" "$bin/pg_ctl" -D "$cluster/data" -l "$cluster/server.log" -w -t 60 \
