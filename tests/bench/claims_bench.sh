@@ -2,11 +2,11 @@
 # Claims per second PostgreSQL sustains with the lease scheme of jobs across nodes (claim → renew
 # → finish, K = 1, 2, 4, 8 threads each with its own connection), on a temporary cluster
 # (tests/support/pg_cluster.sh) with fsync off, then on, the median of 3 runs each; SQLite's
-# figure (one node, WAL) for comparison.   Usage: tests/bench/job_claims_bench.sh [BUILD_DIR] [JOBS]
+# figure (one node, WAL) for comparison.   Usage: tests/bench/claims_bench.sh [BUILD_DIR] [JOBS]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 build=${1:-build} jobs=${2:-3000}
-bench="$build/tests/bench/job_claims_bench"
+bench="$build/tests/bench/claims_bench"
 dir=$(mktemp -d /tmp/salient-claims-bench.XXXXXX)
 trap 'bash tests/support/pg_cluster.sh stop "$dir/pg" >/dev/null 2>&1 || true; rm -rf "$dir"' EXIT
 median() {  # median RUNS…: per K, the median claims/s of the runs' outputs
@@ -25,10 +25,10 @@ for k in sorted(rows):
 for fsync in off on; do
   SALIENT_PG_FSYNC=$fsync bash tests/support/pg_cluster.sh start "$dir/pg" >/dev/null
   url=$(cat "$dir/pg/url")
-  psql -X -q "$url/postgres" -c "CREATE DATABASE claims_bench"
+  psql -X -q "$url/postgres" -c "CREATE DATABASE farm"  # the bench makes its own beside it
   echo "PostgreSQL $(psql -X -tA "$url/postgres" -c 'SHOW server_version'), fsync=$(psql -X -tA "$url/postgres" -c 'SHOW fsync'), $jobs jobs per run:"
-  echo "   $bench $url/claims_bench $jobs 1 2 4 8"
-  for run in 1 2 3; do "$bench" "$url/claims_bench" "$jobs" 1 2 4 8 > "$dir/run$run"; done
+  echo "   $bench $url/farm $jobs 1 2 4 8"
+  for run in 1 2 3; do "$bench" "$url/farm" "$jobs" 1 2 4 8 > "$dir/run$run"; done
   median "$dir"/run?
   bash tests/support/pg_cluster.sh stop "$dir/pg"
 done
