@@ -144,17 +144,15 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   push.attach(printers);
   hub.set_snapshot(event_snapshots(store, printers));
   const auto publish_job = job_event_publisher(hub);
-  JobService jobs(store,
-                  {config.workers, config.queue_limit, static_cast<std::size_t>(config.max_json_depth)},
-                  [&](const Job& j) {
-                    publish_job(j);
-                    if (finished(j.state)) printers.job_finished(j.id);  // a print waiting for it
-                    if (finished(j.state) && j.started_at && j.finished_at)
-                      metrics.job_finished(std::string(to_string(j.state)), *j.finished_at - *j.started_at);
-                    if (finished(j.state) || j.state == JobState::queued)
-                      log_line("job id=" + j.id + " state=" + std::string(to_string(j.state)) +
-                               (j.error ? " error=\"" + *j.error + "\"" : ""));
-                  });
+  JobService jobs(store, job_service_options(config), [&](const Job& j) {
+    publish_job(j);
+    if (finished(j.state)) printers.job_finished(j.id);  // a print waiting for it
+    if (finished(j.state) && j.started_at && j.finished_at)
+      metrics.job_finished(std::string(to_string(j.state)), *j.finished_at - *j.started_at);
+    if (finished(j.state) || j.state == JobState::queued)
+      log_line("job id=" + j.id + " state=" + std::string(to_string(j.state)) +
+               (j.error ? " error=\"" + *j.error + "\"" : ""));
+  });
   Router router;
   router.set_authenticator([&keys](const HttpRequest& r) { return keys.authenticate(r); });
   router.set_exception_mapper(

@@ -27,6 +27,16 @@ std::string string_field(const json& body, const char* key, const std::string& f
   return it->get<std::string>();
 }
 
+namespace {
+
+// Why the job went back to the queue, each time: [{"node", "at", "reason"}], oldest first.
+json requeues_json(const std::string& text) {
+  json list = json::parse(text, nullptr, false);
+  return list.is_array() ? list : json::array();
+}
+
+}  // namespace
+
 json job_json(const Job& j) {
   json out = {{"id", j.id},
               {"state", to_string(j.state)},
@@ -35,6 +45,8 @@ json job_json(const Job& j) {
               {"filename", j.filename},
               {"settings", json::parse(j.settings, nullptr, false)},
               {"attempts", j.attempts},
+              {"node", j.node ? json(*j.node) : json(nullptr)},
+              {"requeues", requeues_json(j.requeues)},
               {"created_at", j.created_at},
               {"started_at", j.started_at ? json(*j.started_at) : json(nullptr)},
               {"finished_at", j.finished_at ? json(*j.finished_at) : json(nullptr)},

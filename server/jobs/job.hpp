@@ -21,6 +21,13 @@ struct Job {
   int attempts = 0;                       // times it started (a restart re-queues a running job)
   double created_at = 0;                  // seconds since the epoch
   std::optional<double> started_at, finished_at;
+  // Across nodes (server/store/job_store.hpp): the node holding a running job's claim, until when
+  // (the database's clock), whether another node asked it to stop, and why the job went back to
+  // the queue each time (JSON: [{"node", "at", "reason"}, …]).
+  std::optional<std::string> node;
+  std::optional<double> lease_until;
+  bool cancel_requested = false;
+  std::string requeues = "[]";
 };
 
 }  // namespace salient::server

@@ -3,6 +3,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <nlohmann/json.hpp>
 
@@ -79,6 +80,17 @@ std::string sanitize_filename(const std::string& name) {
   return out.empty() ? "model" : out;
 }
 
+JobServiceOptions job_service_options(const DaemonConfig& config) {
+  JobServiceOptions o;
+  o.workers = config.node.roles.slicer ? config.workers : 0;
+  o.queue_limit = config.queue_limit;
+  o.max_json_depth = static_cast<std::size_t>(config.max_json_depth);
+  o.node = config.node.id;
+  o.lease_seconds = config.node.lease_seconds;
+  o.max_attempts = config.node.max_attempts;
+  return o;
+}
+
 JobService::JobService(Store& store, JobServiceOptions options, std::function<void(const Job&)> on_change)
     : store_(store),
       options_(options),
@@ -90,23 +102,29 @@ JobService::~JobService() {
 }
 
 void JobService::start() {
-  JobStore(store_.db()).requeue_running();
+  // Only this node's own (and those of a daemon from before nodes): another node's running jobs
+  // are its own business until their lease expires.
+  for (const Job& j : JobStore(store_.db()).requeue_running(options_.node, options_.max_attempts))
+    if (on_change_) on_change_(j);
   std::lock_guard lock(mutex_);
   stopping_ = false;
   for (int i = 0; i < options_.workers; ++i) workers_.emplace_back([this] { work(); });
+  renewer_ = std::thread([this] { renewer(); });
 }
 
 bool JobService::stop(std::optional<std::chrono::milliseconds> grace) {
   {
     std::unique_lock lock(mutex_);
     stopping_ = true;
-    for (auto& [id, token] : running_) token->cancel();
+    for (auto& [id, r] : running_) r.token->cancel();
     wake_.notify_all();
+    renew_wake_.notify_all();
     // A job notices its cancel at the computation's next check, which one long solve may delay.
     if (grace && !wake_.wait_for(lock, *grace, [&] { return exited_ == workers_.size(); })) return false;
   }
   for (auto& t : workers_) t.join();
   workers_.clear();
+  if (renewer_.joinable()) renewer_.join();
   exited_ = 0;
   return true;
 }
@@ -146,10 +164,13 @@ JobService::Submitted JobService::submit(const std::string& filename, const std:
                   "the job queue is full (" + std::to_string(options_.queue_limit) + " waiting)", 30);
   Job job;
   {
-    // Under the lock that workers take to start a job: "queued" is always told before "running".
-    std::lock_guard lock(mutex_);
+    // "queued" is told inside the transaction that writes the row: no slicer, here or on another
+    // node, can claim the job (and tell "running") before it. Not under mutex_: a worker holds it
+    // while it waits for the database.
+    Database::Transaction t(store_.db());
     job = jobs.create(name, digest, settings.canonical, settings_digest, now_seconds());
     if (on_change_) on_change_(job);
+    t.commit();
   }
   wake_.notify_one();
   return {job, false};
@@ -159,14 +180,54 @@ bool JobService::cancel(const std::string& id) {
   {
     std::lock_guard lock(mutex_);
     if (auto it = running_.find(id); it != running_.end()) {
-      it->second->cancel();
+      it->second.token->cancel();
       return true;
     }
   }
-  const bool did =
-      JobStore(store_.db()).finish(id, JobState::cancelled, std::nullopt, std::nullopt, now_seconds());
-  if (did) changed(id);
-  return did;
+  JobStore jobs(store_.db());
+  if (jobs.cancel_queued(id, now_seconds())) {
+    changed(id);
+    return true;
+  }
+  // Running on another node: it sees the request when it next renews its lease.
+  return jobs.request_cancel(id);
+}
+
+void JobService::renewer() {
+  const auto period = std::chrono::duration_cast<std::chrono::milliseconds>(
+      std::chrono::duration<double>(options_.lease_seconds / 3));
+  for (;;) {
+    {
+      std::unique_lock lock(mutex_);
+      if (renew_wake_.wait_for(lock, period, [&] { return stopping_; })) return;
+    }
+    try {
+      renew_leases();
+      // Any node reaps: each expired claim is changed by one reaper only (JobStore::reap).
+      for (const Job& j : JobStore(store_.db()).reap(options_.max_attempts))
+        if (on_change_) on_change_(j);
+    } catch (const std::exception&) {
+      // The database is away (or a row it could not read): the next period tries again; a
+      // lease this node could not renew may expire meanwhile, and its job is then re-queued.
+    }
+  }
+}
+
+void JobService::renew_leases() {
+  // Under mutex_, as claims are: a job claimed between the renewal and the check would look lost.
+  std::lock_guard lock(mutex_);
+  if (running_.empty()) return;
+  const std::vector<JobLease> held = JobStore(store_.db()).renew(options_.node, options_.lease_seconds);
+  for (auto& [id, r] : running_) {
+    const auto it = std::find_if(held.begin(), held.end(),
+                                 [&](const JobLease& l) { return l.id == id && l.attempts == r.attempts; });
+    if (it == held.end()) {
+      r.lost = true;  // re-queued by another node (we paused past our lease): stop, write nothing
+      r.token->cancel();
+    } else if (it->cancel_requested) {
+      r.token->cancel();
+    }
+  }
 }
 
 void JobService::work() {
@@ -183,13 +244,14 @@ void JobService::work() {
         wake_.notify_all();  // stop() may be waiting for the last worker
         return;
       }
-      job = JobStore(store_.db()).start_next(now_seconds());
+      job = JobStore(store_.db()).claim(options_.node, options_.lease_seconds);
       if (!job) {
-        wake_.wait_for(lock, std::chrono::seconds(1));
+        // Polled: jobs are submitted on other nodes too.
+        wake_.wait_for(lock, std::chrono::milliseconds(500));
         continue;
       }
       // Registered in the same step that makes it running: a cancel can never fall between.
-      running_[job->id] = token;
+      running_[job->id] = {token, job->attempts};
     } catch (const StoreError&) {  // a full disk: no job can start now; space may come back
       std::unique_lock lock(mutex_);
       wake_.wait_for(lock, std::chrono::seconds(1));
@@ -266,20 +328,23 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
   }
   std::error_code ec;
   fs::remove_all(work, ec);
-  bool shutting_down;
+  bool shutting_down, lost;
   {
     std::lock_guard lock(mutex_);
+    lost = running_[job.id].lost;
     running_.erase(job.id);
     shutting_down = stopping_;
     // cancel() said yes once the token was set, however late: the job ends cancelled, not done.
     if (token->cancelled() && end == JobState::done) end = JobState::cancelled, result.reset();
   }
   if (end == JobState::cancelled && shutting_down) return;  // interrupted by a stop: re-queued next start
+  if (lost) return;  // another node runs it now, or has re-queued it: its outcome is not ours
   // A full disk may free up: the outcome is retried for a while; if it never lands, the job is
   // still "running" in the database and is re-queued at the next start.
   for (int attempt = 0;; ++attempt) {
     try {
-      JobStore(store_.db()).finish(job.id, end, error, result, now_seconds());
+      // Rejected (nothing written) if this node no longer holds the claim.
+      if (!JobStore(store_.db()).finish(job.id, {options_.node, job.attempts}, end, error, result)) return;
       break;
     } catch (const StoreError&) {
       std::unique_lock lock(mutex_);

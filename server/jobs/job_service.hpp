@@ -3,6 +3,11 @@
 // reused), and a bounded pool of worker threads runs core::slice_model on queued jobs, oldest
 // first, with progress in the database and cooperative cancellation. On stop, running jobs are
 // interrupted and left "running", so that the next start re-queues them.
+//
+// Several nodes may share one PostgreSQL: workers claim jobs with a lease (JobStore::claim) and
+// poll for jobs submitted elsewhere; a renewer thread extends this node's leases every third of
+// a lease, stops a job it no longer holds (another node re-queued it: its result is not written)
+// or that another node's API cancelled, and re-queues the jobs of nodes that stopped renewing.
 #pragma once
 
 #include <atomic>
@@ -19,6 +24,7 @@
 
 #include "core/common/progress.hpp"
 #include "core/saliency/saliency_cache.hpp"
+#include "server/config/daemon_config.hpp"
 #include "server/jobs/job.hpp"
 #include "server/store/store.hpp"
 
@@ -30,6 +36,9 @@ struct JobServiceOptions {
   std::size_t max_json_depth = 32;
   int nice = 10;                   // workers' scheduling priority (Linux nice, per thread); 0 leaves it
   std::size_t saliency_cache = 4;  // models whose saliency the workers keep in memory (0: none)
+  std::string node = "local";      // this node's id in the farm (DaemonConfig::node)
+  double lease_seconds = 15;       // a claim not renewed within this is taken as lost
+  int max_attempts = 3;            // claims a job may lose before it fails
 };
 
 class JobService {
@@ -57,21 +66,35 @@ class JobService {
   const core::SaliencyCache& saliency_cache() const { return saliency_cache_; }
 
  private:
+  // A job this node runs: its worker's cancel token, and the claim (attempt) it holds.
+  struct Running {
+    std::shared_ptr<core::CancelToken> token;
+    int attempts = 0;
+    bool lost = false;  // another node took it: the outcome is not written
+  };
   void work();
   void run(Job job, const std::shared_ptr<core::CancelToken>& token);
   void changed(const std::string& id);
+  void renew_leases();
+  void renewer();
 
   Store& store_;
   JobServiceOptions options_;
   std::function<void(const Job&)> on_change_;
   std::mutex mutex_;
   std::condition_variable wake_;
+  std::condition_variable renew_wake_;  // the renewer's own: a submit's notify_one is for a worker
   bool stopping_ = false;
-  std::map<std::string, std::shared_ptr<core::CancelToken>> running_;
+  std::map<std::string, Running> running_;
   std::vector<std::thread> workers_;
+  std::thread renewer_;
   std::size_t exited_ = 0;  // workers that have left their loop, under mutex_
   core::SaliencyCache saliency_cache_;
 };
+
+// The daemon's options: its [node]'s id, lease and attempts; no workers on a node that is not a
+// slicer.
+JobServiceOptions job_service_options(const DaemonConfig& config);
 
 // File names from clients become "bunny.obj"-like names: letters, digits, '.', '-', '_' only.
 std::string sanitize_filename(const std::string& name);

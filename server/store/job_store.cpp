@@ -1,5 +1,6 @@
 #include "server/store/job_store.hpp"
 
+#include <nlohmann/json.hpp>
 #include <random>
 
 namespace salient::server {
@@ -8,7 +9,8 @@ namespace {
 constexpr const char* columns =
     "id, state, phase, progress, filename, model_digest, settings, settings_digest, error, result, attempts, "
     "created_at, "
-    "started_at, finished_at";
+    "started_at, finished_at, node, lease_until, cancel_requested, requeues";
+constexpr int column_count = 18;
 
 Job read_job(const Database::Statement& q) {
   Job j;
@@ -26,7 +28,53 @@ Job read_job(const Database::Statement& q) {
   j.created_at = q.real(11);
   if (!q.null(12)) j.started_at = q.real(12);
   if (!q.null(13)) j.finished_at = q.real(13);
+  if (!q.null(14)) j.node = q.text(14);
+  if (!q.null(15)) j.lease_until = q.real(15);
+  j.cancel_requested = q.integer(16) != 0;
+  j.requeues = q.text(17);
   return j;
+}
+
+// The statements that differ between the dialects, written once with tokens: {NOW} the
+// database's clock (seconds since the epoch, with fractions), {REAL}, and {SKIP_LOCKED}, which on
+// PostgreSQL lets concurrent claimers pass over a row another one is taking (SQLite has one writer
+// at a time and needs nothing).
+std::string dialect_sql(const Database& db, std::string sql) {
+  const bool pg = db.dialect() == Dialect::postgresql;
+  const std::pair<std::string_view, std::string_view> words[] = {
+      {"{NOW}", pg ? "CAST(EXTRACT(EPOCH FROM clock_timestamp()) AS DOUBLE PRECISION)"
+                   : "((julianday('now') - 2440587.5) * 86400.0)"},
+      {"{REAL}", pg ? "DOUBLE PRECISION" : "REAL"},
+      {"{SKIP_LOCKED}", pg ? " FOR UPDATE SKIP LOCKED" : ""},
+  };
+  for (const auto& [token, word] : words)
+    for (std::size_t at = sql.find(token); at != std::string::npos; at = sql.find(token, at + word.size()))
+      sql.replace(at, token.size(), word);
+  return sql;
+}
+
+void bind_time(Database::Statement& q, int index, std::optional<double> now) {
+  if (now)
+    q.bind(index, *now);
+  else
+    q.bind_null(index);
+}
+
+// requeues with one more entry, and the error of a job that gave up: every reason, in order.
+std::string appended(const std::string& requeues, const std::string& node, double at,
+                     const std::string& reason) {
+  nlohmann::json list = nlohmann::json::parse(requeues, nullptr, false);
+  if (!list.is_array()) list = nlohmann::json::array();
+  list.push_back({{"node", node}, {"at", at}, {"reason", reason}});
+  return list.dump();
+}
+
+std::string gave_up(const std::string& requeues, int attempts) {
+  std::string reasons;
+  for (const auto& r : nlohmann::json::parse(requeues))
+    if (r.is_object() && r.contains("reason") && r["reason"].is_string())
+      reasons += (reasons.empty() ? "" : "; ") + r["reason"].get<std::string>();
+  return "gave up after " + std::to_string(attempts) + " attempts: " + reasons;
 }
 
 std::string new_id() {
@@ -97,23 +145,105 @@ long long JobStore::count(std::optional<JobState> state) {
   return n;
 }
 
-std::optional<Job> JobStore::start_next(double now) {
-  Database::Transaction t(db_);
-  auto q = db_.prepare(std::string("SELECT ") + columns +
-                       " FROM jobs WHERE state = 'queued' ORDER BY created_at, rowid LIMIT 1");
+std::optional<Job> JobStore::claim(const std::string& node, double lease_seconds, std::optional<double> now) {
+  // One statement, no lock: on PostgreSQL the subquery locks the row it picks and skips those
+  // other claimers hold, and the outer state check drops a row that stopped being queued.
+  auto q = db_.prepare(dialect_sql(
+      db_,
+      std::string("UPDATE jobs SET state = 'running', attempts = attempts + 1, node = ?1, ") +
+          "started_at = COALESCE(CAST(?3 AS {REAL}), {NOW}), "
+          "lease_until = COALESCE(CAST(?3 AS {REAL}), {NOW}) + ?2, cancel_requested = 0, phase = 'load', "
+          "progress = 0 WHERE state = 'queued' AND id = (SELECT id FROM jobs WHERE state = 'queued' "
+          "ORDER BY created_at, rowid LIMIT 1{SKIP_LOCKED}) RETURNING " +
+          columns));
+  q.bind(1, std::string_view(node)).bind(2, lease_seconds);
+  bind_time(q, 3, now);
   if (!q.step()) return std::nullopt;
   Job j = read_job(q);
   q.run();
-  db_.prepare(
-         "UPDATE jobs SET state = 'running', attempts = attempts + 1, started_at = ?, phase = 'load', "
-         "progress = 0 WHERE id = ?")
-      .bind(1, now)
-      .bind(2, std::string_view(j.id))
-      .run();
-  t.commit();
-  j.state = JobState::running;
-  j.attempts += 1;
-  j.started_at = now;
+  return j;
+}
+
+std::vector<JobLease> JobStore::renew(const std::string& node, double lease_seconds,
+                                      std::optional<double> now) {
+  auto q = db_.prepare(dialect_sql(
+      db_,
+      "UPDATE jobs SET lease_until = COALESCE(CAST(?3 AS {REAL}), {NOW}) + ?2 WHERE node = ?1 AND "
+      "state = 'running' RETURNING id, attempts, cancel_requested"));
+  q.bind(1, std::string_view(node)).bind(2, lease_seconds);
+  bind_time(q, 3, now);
+  std::vector<JobLease> out;
+  while (q.step()) out.push_back({q.text(0), static_cast<int>(q.integer(1)), q.integer(2) != 0});
+  return out;
+}
+
+std::vector<Job> JobStore::reap(int max_attempts, std::optional<double> now) {
+  auto q =
+      db_.prepare(dialect_sql(db_, std::string("SELECT ") + columns +
+                                       ", COALESCE(CAST(?1 AS {REAL}), {NOW}) FROM jobs WHERE state = "
+                                       "'running' AND lease_until < COALESCE(CAST(?1 AS {REAL}), {NOW})"));
+  bind_time(q, 1, now);
+  std::vector<std::pair<Job, double>> expired;
+  while (q.step()) expired.emplace_back(read_job(q), q.real(column_count));
+  std::vector<Job> out;
+  for (const auto& [job, at] : expired) {
+    const std::string reason = "node " + job.node.value_or("") + " stopped renewing its lease";
+    if (auto changed = requeue_one(job, reason, at, max_attempts, true)) out.push_back(*changed);
+  }
+  return out;
+}
+
+std::vector<Job> JobStore::requeue_running(const std::string& node, int max_attempts,
+                                           std::optional<double> now) {
+  auto q = db_.prepare(dialect_sql(db_, std::string("SELECT ") + columns +
+                                            ", COALESCE(CAST(?2 AS {REAL}), {NOW}) FROM jobs WHERE state = "
+                                            "'running' AND (node = ?1 OR node IS NULL)"));
+  q.bind(1, std::string_view(node));
+  bind_time(q, 2, now);
+  std::vector<std::pair<Job, double>> mine;
+  while (q.step()) mine.emplace_back(read_job(q), q.real(column_count));
+  std::vector<Job> out;
+  for (const auto& [job, at] : mine) {
+    const std::string reason = "node " + node + " restarted while running it";
+    if (auto changed = requeue_one(job, reason, at, max_attempts, false)) out.push_back(*changed);
+  }
+  return out;
+}
+
+// One job's claim ends without an outcome: queued again, or failed at the cap, or cancelled if a
+// cancel was asked. Compare-and-set on the claim (state, node, attempts, and the lease still
+// expired): of several nodes reaping the same job at once, one changes it and the others nothing.
+std::optional<Job> JobStore::requeue_one(const Job& job, const std::string& reason, double at,
+                                         int max_attempts, bool only_if_expired) {
+  const std::string requeues = appended(job.requeues, job.node.value_or(""), at, reason);
+  JobState state = JobState::queued;
+  std::optional<std::string> error;
+  if (job.cancel_requested) {
+    state = JobState::cancelled;
+  } else if (max_attempts > 0 && job.attempts >= max_attempts) {
+    state = JobState::failed;
+    error = gave_up(requeues, job.attempts);
+  }
+  auto q = db_.prepare(dialect_sql(
+      db_,
+      std::string("UPDATE jobs SET state = ?1, requeues = ?2, error = ?3, finished_at = ?4, node = NULL, ") +
+          "lease_until = NULL, cancel_requested = 0, phase = '', progress = 0 WHERE id = ?5 AND state = "
+          "'running' AND attempts = ?6 AND COALESCE(node, '') = ?7 AND (?8 = 0 OR lease_until < ?9) "
+          "RETURNING " +
+          columns));
+  q.bind(1, to_string(state)).bind(2, std::string_view(requeues)).bind(3, error);
+  if (state == JobState::queued)
+    q.bind_null(4);
+  else
+    q.bind(4, at);
+  q.bind(5, std::string_view(job.id))
+      .bind(6, static_cast<std::int64_t>(job.attempts))
+      .bind(7, std::string_view(job.node.value_or("")))
+      .bind(8, static_cast<std::int64_t>(only_if_expired ? 1 : 0))
+      .bind(9, at);
+  if (!q.step()) return std::nullopt;
+  Job j = read_job(q);
+  q.run();
   return j;
 }
 
@@ -125,25 +255,37 @@ void JobStore::set_progress(const std::string& id, JobPhase phase, double progre
       .run();
 }
 
-bool JobStore::finish(const std::string& id, JobState state, const std::optional<std::string>& error,
-                      const std::optional<std::string>& result, double now) {
-  db_.prepare(
-         "UPDATE jobs SET state = ?, error = ?, result = ?, finished_at = ?, progress = CASE WHEN ? = 'done' "
-         "THEN 1 "
-         "ELSE progress END WHERE id = ? AND state IN ('queued', 'running')")
-      .bind(1, to_string(state))
-      .bind(2, error)
-      .bind(3, result)
-      .bind(4, now)
-      .bind(5, to_string(state))
-      .bind(6, std::string_view(id))
+bool JobStore::finish(const std::string& id, const JobClaim& holder, JobState state,
+                      const std::optional<std::string>& error, const std::optional<std::string>& result,
+                      std::optional<double> now) {
+  auto q = db_.prepare(dialect_sql(
+      db_,
+      "UPDATE jobs SET state = ?1, error = ?2, result = ?3, finished_at = COALESCE(CAST(?4 AS {REAL}), "
+      "{NOW}), "
+      "lease_until = NULL, progress = CASE WHEN ?1 = 'done' THEN 1 ELSE progress END WHERE id = ?5 AND "
+      "state = 'running' AND node = ?6 AND attempts = ?7"));
+  q.bind(1, to_string(state)).bind(2, error).bind(3, result);
+  bind_time(q, 4, now);
+  q.bind(5, std::string_view(id))
+      .bind(6, std::string_view(holder.node))
+      .bind(7, static_cast<std::int64_t>(holder.attempts))
       .run();
   return db_.changes() > 0;
 }
 
-int JobStore::requeue_running() {
-  db_.exec("UPDATE jobs SET state = 'queued', phase = '', progress = 0 WHERE state = 'running'");
-  return db_.changes();
+bool JobStore::cancel_queued(const std::string& id, double now) {
+  db_.prepare("UPDATE jobs SET state = 'cancelled', finished_at = ? WHERE id = ? AND state = 'queued'")
+      .bind(1, now)
+      .bind(2, std::string_view(id))
+      .run();
+  return db_.changes() > 0;
+}
+
+bool JobStore::request_cancel(const std::string& id) {
+  db_.prepare("UPDATE jobs SET cancel_requested = 1 WHERE id = ? AND state = 'running'")
+      .bind(1, std::string_view(id))
+      .run();
+  return db_.changes() > 0;
 }
 
 std::optional<Job> JobStore::find_done(const std::string& model_digest, const std::string& settings_digest) {

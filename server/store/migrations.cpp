@@ -107,6 +107,16 @@ CREATE TABLE settings (
 ALTER TABLE prints ADD COLUMN filament_mm {REAL} NOT NULL DEFAULT 0;
 ALTER TABLE prints ADD COLUMN paused_seconds {REAL} NOT NULL DEFAULT 0;
 )sql",
+    // 7: jobs across nodes: the node holding a running job's claim and until when (a lease it
+    // renews; the database's clock), a cancel asked from another node, and why the job went back
+    // to the queue each time (a JSON array of {node, at, reason}).
+    R"sql(
+ALTER TABLE jobs ADD COLUMN node TEXT;
+ALTER TABLE jobs ADD COLUMN lease_until {REAL};
+ALTER TABLE jobs ADD COLUMN cancel_requested {INT} NOT NULL DEFAULT 0;
+ALTER TABLE jobs ADD COLUMN requeues TEXT NOT NULL DEFAULT '[]';
+CREATE INDEX jobs_by_node ON jobs (node, state);
+)sql",
 };
 
 // Token, SQLite's words, PostgreSQL's words. SQLite's are the text the entries had before there

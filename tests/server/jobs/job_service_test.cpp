@@ -205,7 +205,7 @@ TEST_CASE("cancel: a queued job at once, and a restart re-queues a job that was 
     CHECK(JobStore(store.db()).get(queued.id)->state == JobState::cancelled);
     CHECK_FALSE(service.cancel(queued.id));
     id = service.submit("cube.ply", cube, R"({"layers": 5})").job.id;
-    JobStore(store.db()).start_next(1);  // a worker took it, then the daemon was killed
+    JobStore(store.db()).claim("local", 15, 1);  // a worker took it, then the daemon was killed
   }
   Store store(dir.path);
   JobService service(store, {});

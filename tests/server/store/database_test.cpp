@@ -210,7 +210,7 @@ TEST_CASE("concurrent writers: queue positions stay unique and each job starts o
       JobStore jobs(store.db());
       for (int i = 0; i < 15; ++i) {
         queue.add("p", "file", "f.gcode", 1);
-        if (auto j = jobs.start_next(2)) {
+        if (auto j = jobs.claim("n", 60, 2)) {
           std::lock_guard lock(mutex);
           started.push_back(j->id);
         }

@@ -19,15 +19,17 @@ TEST_CASE("jobs: created queued, started oldest first, finished once, listed new
   const Job b = jobs.create("spot.obj", "m2", "{}", "s1", 11);
   CHECK(a.id != b.id);
   CHECK(jobs.count(JobState::queued) == 2);
-  auto started = jobs.start_next(12);
+  auto started = jobs.claim("n1", 30, 12);
   REQUIRE(started);
   CHECK(started->id == a.id);
   CHECK(started->attempts == 1);
+  CHECK(*started->node == "n1");
+  CHECK(*started->lease_until == 42);
   jobs.set_progress(a.id, JobPhase::saliency, 0.25);
   CHECK(jobs.get(a.id)->phase == JobPhase::saliency);
-  CHECK(jobs.finish(a.id, JobState::done, std::nullopt, std::string(R"({"layers": 539})"), 13));
-  CHECK_FALSE(
-      jobs.finish(a.id, JobState::failed, std::string("late"), std::nullopt, 14));  // already finished
+  CHECK(jobs.finish(a.id, {"n1", 1}, JobState::done, std::nullopt, std::string(R"({"layers": 539})"), 13));
+  CHECK_FALSE(jobs.finish(a.id, {"n1", 1}, JobState::failed, std::string("late"), std::nullopt,
+                          14));  // already finished
   const Job done = *jobs.get(a.id);
   CHECK(done.state == JobState::done);
   CHECK(done.progress == 1);
@@ -51,16 +53,19 @@ TEST_CASE("jobs: a restart puts running jobs back in the queue, with their attem
     Database db(salient::test::test_database(scratch));
     JobStore jobs(db);
     id = jobs.create("bunny.obj", "m", "{}", "s", 1).id;
-    jobs.start_next(2);
+    jobs.claim("n1", 30, 2);
     jobs.set_progress(id, JobPhase::plan, 0.6);
   }  // the daemon dies here
   Database db(salient::test::test_database(scratch));
   JobStore jobs(db);
-  CHECK(jobs.requeue_running() == 1);
+  CHECK(jobs.requeue_running("n2", 3).empty());  // another node's job: not ours to take
+  CHECK(jobs.requeue_running("n1", 3).size() == 1);
   const Job j = *jobs.get(id);
   CHECK(j.state == JobState::queued);
   CHECK(j.progress == 0);
-  CHECK(jobs.start_next(3)->attempts == 2);
+  CHECK_FALSE(j.node);
+  CHECK(j.requeues.find("node n1 restarted") != std::string::npos);
+  CHECK(jobs.claim("n1", 30, 3)->attempts == 2);
 }
 
 TEST_CASE("job states round-trip through their names") {
