@@ -56,6 +56,12 @@ std::shared_ptr<Subscription> EventHub::subscribe(std::function<void()> wake) {
 
 void EventHub::publish(const std::vector<std::string>& topics, const std::string& type,
                        const std::string& data_json, Delivery delivery) {
+  if (forward_) return forward_(topics, type, data_json, delivery);
+  deliver(topics, type, data_json, delivery);
+}
+
+void EventHub::deliver(const std::vector<std::string>& topics, const std::string& type,
+                       const std::string& data_json, Delivery delivery) {
   std::vector<std::shared_ptr<Subscription>> targets;
   {
     std::lock_guard lock(mutex_);
@@ -65,6 +71,15 @@ void EventHub::publish(const std::vector<std::string>& topics, const std::string
   const std::string text = message(topics.empty() ? std::string() : topics.back(), type, data_json);
   for (const auto& s : targets)
     if (auto wake = s->offer(topics, text, delivery)) wake();
+}
+
+void EventHub::resync(const std::string& reason) {
+  std::vector<std::shared_ptr<Subscription>> targets;
+  {
+    std::lock_guard lock(mutex_);
+    targets = subscribers_;
+  }
+  for (const auto& s : targets) s->resync(reason);
 }
 
 bool EventHub::has_subscribers(const std::string& topic) const {
@@ -129,6 +144,29 @@ bool Subscription::enqueue_state(std::string text, const std::string& subject) {
   bytes_ += text.size();
   queue_.push_back({std::move(text), subject, Delivery::always});
   return true;
+}
+
+void Subscription::resync(const std::string& reason) {
+  std::set<std::string> topics;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    topics = topics_;
+  }
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> snapshots;
+  for (const std::string& topic : topics)
+    snapshots.emplace_back(
+        topic, hub_.snapshot_ ? hub_.snapshot_(topic) : decltype(snapshots)::value_type::second_type{});
+  std::function<void()> wake;
+  {
+    std::lock_guard lock(mutex_);
+    if (enqueue_state(EventHub::message("", "resync", json_text(nlohmann::json{{"reason", reason}})), {}))
+      for (const auto& [topic, snapshot] : snapshots)
+        for (const auto& [type, data] : snapshot)
+          if (!enqueue_state(EventHub::message(topic, type, data), topic)) break;
+    wake = wake_;
+  }
+  if (wake) wake();
 }
 
 void Subscription::unsubscribe(const std::string& topic) {

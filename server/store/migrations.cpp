@@ -107,6 +107,20 @@ CREATE TABLE settings (
 ALTER TABLE prints ADD COLUMN filament_mm {REAL} NOT NULL DEFAULT 0;
 ALTER TABLE prints ADD COLUMN paused_seconds {REAL} NOT NULL DEFAULT 0;
 )sql",
+    // 7: placeholder for the jobs-across-nodes migration (s13-jobs), replaced when merged.
+    "SELECT 1;",
+    // 8: placeholder for the printers-across-nodes migration (s13-printers), replaced when merged.
+    "SELECT 1;",
+    // 9: events too large for a NOTIFY payload (8000 bytes), which then carries the row's id
+    // (server/events/event_relay). Rows are read once by each node and swept after minutes.
+    R"sql(
+CREATE TABLE event_payloads (
+  id {ID},
+  body TEXT NOT NULL,
+  created_at {REAL} NOT NULL
+);
+CREATE INDEX event_payloads_by_age ON event_payloads (created_at);
+)sql",
 };
 
 // Token, SQLite's words, PostgreSQL's words. SQLite's are the text the entries had before there

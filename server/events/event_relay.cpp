@@ -1,0 +1,338 @@
+// EventRelay: see the header for order, size and reconnection. A notification's payload is one
+// line of JSON (node, sequence, delivery, type, topics), a newline, then the event's data JSON as
+// published, so that subscribers get the same bytes on every node; or "@ID", the row of
+// event_payloads that holds that text.
+#include "server/events/event_relay.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "server/common/json_text.hpp"
+
+namespace salient::server {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double unix_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+bool job_topic(const std::vector<std::string>& topics) {
+  return std::any_of(topics.begin(), topics.end(),
+                     [](const std::string& t) { return t == "jobs" || t.rfind("job/", 0) == 0; });
+}
+
+std::string encode(const std::string& node, std::uint64_t seq, const std::vector<std::string>& topics,
+                   const std::string& type, const std::string& data_json, Delivery delivery) {
+  // The sequence number keeps two equal events apart: PostgreSQL folds identical notifications
+  // of one transaction into one.
+  std::string out = json_text(
+      nlohmann::json{{"n", node}, {"s", seq}, {"v", static_cast<int>(delivery)}, {"y", type}, {"t", topics}});
+  out += '\n';
+  out += data_json;
+  return out;
+}
+
+// Throws std::exception on a malformed text (not ours: anyone may NOTIFY the channel).
+RelayedEvent decode(const std::string& text, const std::string& own_node) {
+  const std::size_t line = text.find('\n');
+  if (line == std::string::npos) throw std::invalid_argument("no header line");
+  const nlohmann::json h = nlohmann::json::parse(text.substr(0, line));
+  RelayedEvent e;
+  e.node = h.at("n").get<std::string>();
+  e.type = h.at("y").get<std::string>();
+  e.topics = h.at("t").get<std::vector<std::string>>();
+  const int v = h.at("v").get<int>();
+  if (v < 0 || v > static_cast<int>(Delivery::best_effort)) throw std::invalid_argument("bad delivery");
+  e.delivery = static_cast<Delivery>(v);
+  if (e.topics.empty() || !std::all_of(e.topics.begin(), e.topics.end(), EventHub::valid_topic))
+    throw std::invalid_argument("bad topics");
+  e.data_json = text.substr(line + 1);
+  e.local = e.node == own_node;
+  return e;
+}
+
+struct Pending {
+  std::vector<std::string> topics;
+  std::string type, data_json;
+  Delivery delivery;
+};
+
+}  // namespace
+
+struct EventRelay::State {
+  DatabaseUrl url;
+  EventHub& hub;
+  ThreadDatabase thread_db;
+  EventRelayOptions options;
+  Log log;
+  std::vector<std::function<void(const RelayedEvent&)>> observers;
+
+  std::atomic<std::uint64_t> seq{0};
+  mutable std::mutex mutex;  // the queue, the stats, running
+  std::condition_variable wake;
+  std::deque<Pending> queue;
+  EventRelayStats stats;
+  bool running = false, stopping = false;
+  std::atomic<bool> listening{false};
+  std::unique_ptr<Database> listener_db;
+  std::thread sender, listener;
+
+  void note(const std::string& text) {
+    if (log) log(text);
+  }
+
+  // Sends one event on `db` (inside its transaction, if one is open): NOTIFY, with the text in
+  // event_payloads first if it is too large for one.
+  void send(Database& db, const Pending& p) {
+    const std::string text = encode(options.node, ++seq, p.topics, p.type, p.data_json, p.delivery);
+    if (text.size() <= Database::kMaxNotifyPayload) return db.notify(options.channel, text);
+    auto q = db.prepare("INSERT INTO event_payloads (body, created_at) VALUES (?, ?) RETURNING id");
+    q.bind(1, std::string_view(text)).bind(2, unix_now());
+    if (!q.step()) throw StoreError("event_payloads: no id returned");
+    const std::int64_t id = q.integer(0);
+    q.run();
+    db.notify(options.channel, "@" + std::to_string(id));
+    std::lock_guard lock(mutex);
+    ++stats.stored;
+  }
+
+  void enqueue(Pending p) {
+    {
+      std::lock_guard lock(mutex);
+      if (p.delivery == Delivery::coalesce) {
+        // The newest unsent event about the same subject: progress replaces progress; a state
+        // change stops the search, so that the order around it is kept.
+        for (auto it = queue.rbegin(); it != queue.rend(); ++it) {
+          if (it->topics.back() != p.topics.back()) continue;
+          if (it->delivery != Delivery::coalesce) break;
+          *it = std::move(p);
+          ++stats.coalesced;
+          return;
+        }
+      }
+      if (p.delivery != Delivery::always && queue.size() >= options.queue_limit) {
+        ++stats.dropped;
+        return;
+      }
+      queue.push_back(std::move(p));
+    }
+    wake.notify_all();
+  }
+
+  void send_batch(std::unique_ptr<Database>& db, const std::vector<Pending>& batch);
+  void sweep(Database& db);
+  void run_sender();
+  void run_listener();
+  void receive(Database& db, const Database::Notification& n);
+  bool pause(std::chrono::milliseconds d) {  // false: stopping
+    std::unique_lock lock(mutex);
+    return !wake.wait_for(lock, d, [&] { return stopping; });
+  }
+};
+
+// One transaction per batch: one commit for many events. A failure reconnects and sends the whole
+// batch again (its transaction did not commit, or we cannot know: then twice rather than never).
+void EventRelay::State::send_batch(std::unique_ptr<Database>& db, const std::vector<Pending>& batch) {
+  auto backoff = std::chrono::milliseconds(100);
+  for (int attempt = 0;; ++attempt) {
+    try {
+      if (!db) db = std::make_unique<Database>(url);
+      db->exec("BEGIN");
+      for (const Pending& p : batch) send(*db, p);
+      db->exec("COMMIT");
+      std::lock_guard lock(mutex);
+      stats.sent += batch.size();
+      return;
+    } catch (const std::exception& e) {
+      note("event relay: sending " + std::to_string(batch.size()) + " event(s) failed (" + e.what() +
+           "); reconnecting");
+      db.reset();
+    }
+    bool stop;
+    {
+      std::lock_guard lock(mutex);
+      stop = stopping;
+    }
+    if (stop && attempt >= 3) {
+      note("event relay: stopping: " + std::to_string(batch.size()) + " event(s) not sent");
+      return;
+    }
+    std::this_thread::sleep_for(backoff);
+    backoff = std::min(backoff * 2, std::chrono::milliseconds(5000));
+  }
+}
+
+void EventRelay::State::sweep(Database& db) {
+  try {
+    auto q = db.prepare("DELETE FROM event_payloads WHERE created_at < ?");
+    q.bind(1, unix_now() - static_cast<double>(options.payload_retention.count()));
+    q.run();
+  } catch (const std::exception& e) {
+    note(std::string("event relay: sweeping event_payloads failed: ") + e.what());
+  }
+}
+
+void EventRelay::State::run_sender() {
+  std::unique_ptr<Database> db;
+  auto next_sweep = Clock::now();
+  for (;;) {
+    std::vector<Pending> batch;
+    {
+      std::unique_lock lock(mutex);
+      wake.wait_for(lock, std::chrono::seconds(10), [&] { return stopping || !queue.empty(); });
+      if (queue.empty() && stopping) break;
+      while (!queue.empty() && batch.size() < options.batch_limit) {
+        batch.push_back(std::move(queue.front()));
+        queue.pop_front();
+      }
+    }
+    if (!batch.empty()) send_batch(db, batch);
+    if (db && Clock::now() >= next_sweep) {
+      sweep(*db);
+      next_sweep = Clock::now() + std::chrono::seconds(60);
+    }
+  }
+}
+
+void EventRelay::State::receive(Database& db, const Database::Notification& n) {
+  std::string text = n.payload;
+  if (!text.empty() && text[0] == '@') {
+    auto q = db.prepare("SELECT body FROM event_payloads WHERE id = ?");
+    q.bind(1, static_cast<std::int64_t>(std::stoll(text.substr(1))));
+    if (!q.step()) throw std::invalid_argument("event_payloads row " + text.substr(1) + " is gone");
+    text = q.text(0);
+    q.run();
+  }
+  const RelayedEvent e = decode(text, options.node);
+  {
+    std::lock_guard lock(mutex);
+    ++stats.received;
+  }
+  for (const auto& observer : observers) observer(e);
+  hub.deliver(e.topics, e.type, e.data_json, e.delivery);
+}
+
+void EventRelay::State::run_listener() {
+  auto backoff = std::chrono::milliseconds(100);
+  auto idle_since = Clock::now();
+  while (listening) {
+    try {
+      if (!listener_db) {
+        listener_db = std::make_unique<Database>(url);
+        listener_db->listen(options.channel);
+        note("event relay: listening again; subscribers are sent the current state (resync)");
+        hub.resync("this node lost its connection to the database for a while: events may be missing");
+        backoff = std::chrono::milliseconds(100);
+      }
+      const auto n = listener_db->wait_notification(std::chrono::milliseconds(200));
+      if (!n) {
+        // A connection that died without a word (a cable, a firewall) shows only when used.
+        if (Clock::now() - idle_since > options.ping_interval) {
+          listener_db->exec("SELECT 1");
+          idle_since = Clock::now();
+        }
+        continue;
+      }
+      idle_since = Clock::now();
+      try {
+        receive(*listener_db, *n);
+      } catch (const StoreError&) {
+        throw;
+      } catch (const std::exception& e) {
+        note(std::string("event relay: a notification skipped: ") + e.what());
+      }
+    } catch (const std::exception& e) {
+      note(std::string("event relay: the listening connection failed (") + e.what() + "); reconnecting");
+      listener_db.reset();
+      {
+        std::lock_guard lock(mutex);
+        ++stats.reconnects;
+      }
+      if (!pause(backoff)) break;
+      backoff = std::min(backoff * 2, std::chrono::milliseconds(5000));
+    }
+  }
+}
+
+EventRelay::EventRelay(DatabaseUrl url, EventHub& hub, ThreadDatabase thread_db, EventRelayOptions options,
+                       Log log)
+    : state_(new State{std::move(url), hub, std::move(thread_db), std::move(options), std::move(log)}) {}
+
+EventRelay::~EventRelay() {
+  stop();
+}
+
+void EventRelay::on_event(std::function<void(const RelayedEvent&)> observer) {
+  state_->observers.push_back(std::move(observer));
+}
+
+void EventRelay::start() {
+  State& s = *state_;
+  s.listener_db = std::make_unique<Database>(s.url);
+  s.listener_db->listen(s.options.channel);  // before anything is published through us
+  s.running = true;
+  s.listening = true;
+  s.sender = std::thread([&s] { s.run_sender(); });
+  s.listener = std::thread([&s] { s.run_listener(); });
+  s.hub.set_forward([this](const std::vector<std::string>& topics, const std::string& type,
+                           const std::string& data_json,
+                           Delivery delivery) { publish(topics, type, data_json, delivery); });
+}
+
+void EventRelay::stop() {
+  State& s = *state_;
+  {
+    std::lock_guard lock(s.mutex);
+    if (!s.running) return;
+    s.running = false;
+    s.stopping = true;
+  }
+  s.wake.notify_all();
+  if (s.sender.joinable()) s.sender.join();  // it sends what is queued first
+  s.listening = false;
+  s.wake.notify_all();
+  if (s.listener.joinable()) s.listener.join();
+  s.listener_db.reset();
+}
+
+void EventRelay::publish(const std::vector<std::string>& topics, const std::string& type,
+                         const std::string& data_json, Delivery delivery) {
+  if (topics.empty()) return;
+  State& s = *state_;
+  Pending p{topics, type, data_json, delivery};
+  bool running;
+  {
+    std::lock_guard lock(s.mutex);
+    running = s.running;
+  }
+  if (running && !job_topic(topics)) return s.enqueue(std::move(p));
+  Database& db = s.thread_db();
+  try {
+    s.send(db, p);
+    std::lock_guard lock(s.mutex);
+    ++s.stats.sent;
+  } catch (const std::exception& e) {
+    // Inside a transaction the event shares its fate: it failed, the event is not sent. Else the
+    // caller's connection failed: the sender has its own.
+    if (db.in_transaction() || !running) {
+      s.note(std::string("event relay: a job event not sent: ") + e.what());
+      return;
+    }
+    s.note(std::string("event relay: a job event goes through the sender: ") + e.what());
+    s.enqueue(std::move(p));
+  }
+}
+
+EventRelayStats EventRelay::stats() const {
+  std::lock_guard lock(state_->mutex);
+  return state_->stats;
+}
+
+}  // namespace salient::server
