@@ -10,7 +10,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <thread>
 
 #include "core/common/input_error.hpp"
@@ -26,7 +25,6 @@
 #include "server/events/event_relay.hpp"
 #include "server/http/http_server.hpp"
 #include "server/jobs/job_service.hpp"
-#include "server/jobs/job_state.hpp"
 #include "server/metrics/metrics.hpp"
 #include "server/printers/printer_service.hpp"
 #include "server/service/systemd_notify.hpp"
@@ -91,11 +89,8 @@ std::unique_ptr<EventRelay> start_event_relay(Store& store, EventHub& hub, Print
   auto relay = std::make_unique<EventRelay>(
       store.database_url(), hub, [&store]() -> Database& { return store.db(); }, options, log_line);
   relay->on_event([&printers](const RelayedEvent& e) {
-    if (e.local || e.type != "job" || e.topics.back().rfind("job/", 0) != 0) return;
-    const auto data = nlohmann::json::parse(e.data_json, nullptr, false);
-    if (!data.is_object() || !data.contains("state") || !data["state"].is_string()) return;
-    const auto state = job_state_from(data["state"].get<std::string>());
-    if (state && finished(*state)) printers.job_finished(e.topics.back().substr(4));
+    if (!e.local)
+      if (const auto job = finished_job(e)) printers.job_finished(*job);
   });
   relay->start();
   log_line("events: relayed between nodes through PostgreSQL (LISTEN/NOTIFY), node=" + node);

@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "server/common/json_text.hpp"
+#include "server/jobs/job_state.hpp"
 
 namespace salient::server {
 namespace {
@@ -66,6 +67,15 @@ struct Pending {
 
 }  // namespace
 
+std::optional<std::string> finished_job(const RelayedEvent& e) {
+  if (e.type != "job" || e.topics.empty() || e.topics.back().rfind("job/", 0) != 0) return std::nullopt;
+  const auto data = nlohmann::json::parse(e.data_json, nullptr, false);
+  if (!data.is_object() || !data.contains("state") || !data["state"].is_string()) return std::nullopt;
+  const auto state = job_state_from(data["state"].get<std::string>());
+  if (!state || !finished(*state)) return std::nullopt;
+  return e.topics.back().substr(4);
+}
+
 struct EventRelay::State {
   DatabaseUrl url;
   EventHub& hub;
@@ -81,8 +91,11 @@ struct EventRelay::State {
   EventRelayStats stats;
   bool running = false, stopping = false;
   std::atomic<bool> listening{false};
+  bool observing = false;  // under mutex; false once the listener has stopped
   std::unique_ptr<Database> listener_db;
-  std::thread sender, listener;
+  std::deque<RelayedEvent> observed;  // waiting for the observers
+  std::condition_variable observed_wake;
+  std::thread sender, listener, observer;
 
   void note(const std::string& text) {
     if (log) log(text);
@@ -124,6 +137,35 @@ struct EventRelay::State {
       queue.push_back(std::move(p));
     }
     wake.notify_all();
+  }
+
+  void observe(RelayedEvent e) {
+    if (observers.empty()) return;
+    {
+      std::lock_guard lock(mutex);
+      if (e.delivery != Delivery::always && observed.size() >= options.queue_limit) return;
+      observed.push_back(std::move(e));
+    }
+    observed_wake.notify_all();
+  }
+  void run_observers() {
+    for (;;) {
+      RelayedEvent e;
+      {
+        std::unique_lock lock(mutex);
+        observed_wake.wait(lock, [&] { return !observed.empty() || !observing; });
+        if (observed.empty()) return;
+        e = std::move(observed.front());
+        observed.pop_front();
+      }
+      for (const auto& o : observers) {
+        try {
+          o(e);
+        } catch (const std::exception& ex) {
+          note(std::string("event relay: an observer failed: ") + ex.what());
+        }
+      }
+    }
   }
 
   void send_batch(std::unique_ptr<Database>& db, const std::vector<Pending>& batch);
@@ -215,13 +257,13 @@ void EventRelay::State::receive(Database& db, const Database::Notification& n) {
     text = q.text(0);
     q.run();
   }
-  const RelayedEvent e = decode(text, options.node);
+  RelayedEvent e = decode(text, options.node);
   {
     std::lock_guard lock(mutex);
     ++stats.received;
   }
-  for (const auto& observer : observers) observer(e);
   hub.deliver(e.topics, e.type, e.data_json, e.delivery);
+  observe(std::move(e));
 }
 
 void EventRelay::State::run_listener() {
@@ -284,8 +326,10 @@ void EventRelay::start() {
   s.listener_db->listen(s.options.channel);  // before anything is published through us
   s.running = true;
   s.listening = true;
+  s.observing = true;
   s.sender = std::thread([&s] { s.run_sender(); });
   s.listener = std::thread([&s] { s.run_listener(); });
+  s.observer = std::thread([&s] { s.run_observers(); });
   s.hub.set_forward([this](const std::vector<std::string>& topics, const std::string& type,
                            const std::string& data_json,
                            Delivery delivery) { publish(topics, type, data_json, delivery); });
@@ -301,9 +345,18 @@ void EventRelay::stop() {
   }
   s.wake.notify_all();
   if (s.sender.joinable()) s.sender.join();  // it sends what is queued first
-  s.listening = false;
+  {
+    std::lock_guard lock(s.mutex);  // no wake-up lost between an observer's test and its wait
+    s.listening = false;
+  }
   s.wake.notify_all();
   if (s.listener.joinable()) s.listener.join();
+  {
+    std::lock_guard lock(s.mutex);
+    s.observing = false;
+  }
+  s.observed_wake.notify_all();
+  if (s.observer.joinable()) s.observer.join();  // it finishes what it was given
   s.listener_db.reset();
 }
 

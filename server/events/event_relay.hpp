@@ -24,6 +24,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,9 @@ struct RelayedEvent {
   bool local = false;  // published on this node
 };
 
+// The id of the job a "job" event says is finished (done, failed, cancelled), if it is one.
+std::optional<std::string> finished_job(const RelayedEvent& e);
+
 struct EventRelayStats {
   std::uint64_t sent = 0, received = 0, coalesced = 0, dropped = 0, reconnects = 0, stored = 0;
 };
@@ -66,8 +70,10 @@ class EventRelay {
   EventRelay(const EventRelay&) = delete;
   EventRelay& operator=(const EventRelay&) = delete;
 
-  // Called on the listener thread for every event received, before the hub delivers it; set
-  // before start().
+  // Called for every event received (every node's, this one's too: see RelayedEvent::local), in
+  // the order received, on a thread of its own, so that a slow observer delays no subscriber.
+  // Set before start(). Past `queue_limit` waiting events, observers miss progress and terminal
+  // lines, never a state change.
   void on_event(std::function<void(const RelayedEvent&)> observer);
   // Listens (throws StoreError if it cannot connect), starts both threads and makes the hub
   // forward its events here.

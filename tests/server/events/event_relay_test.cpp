@@ -160,7 +160,13 @@ TEST_CASE("two nodes: 1000 events from 4 threads on A reach B complete and in or
   }
   // Nothing dropped here: the queue never reached its bound.
   CHECK(got.size() == static_cast<std::size_t>(threads * per_thread - a.relay.stats().coalesced));
-  std::this_thread::sleep_for(200ms);
+  for (int i = 0; i < 1000; ++i) {  // the observers run on a thread of their own: a little later
+    std::lock_guard lock(seen_mutex);
+    if (remote_on_b["remote"] >= static_cast<int>(got.size()) &&
+        local_on_a["local"] >= static_cast<int>(got.size()))
+      break;
+    std::this_thread::sleep_for(10ms);
+  }
   std::lock_guard lock(seen_mutex);
   CHECK(remote_on_b["local"] == 0);
   CHECK(remote_on_b["remote"] == static_cast<int>(got.size()));
@@ -255,4 +261,58 @@ TEST_CASE("a notification that is not an event (anyone may NOTIFY the channel) i
   const auto got = on_b.snapshot();
   REQUIRE(got.size() == 1);
   CHECK(got[0]["data"]["ok"] == true);
+}
+
+TEST_CASE("finished_job: the id of a job a job event says is done, failed or cancelled, and nothing else") {
+  const auto event = [](std::vector<std::string> topics, std::string type, std::string data) {
+    RelayedEvent e;
+    e.topics = std::move(topics);
+    e.type = std::move(type);
+    e.data_json = std::move(data);
+    return e;
+  };
+  for (const char* state : {"done", "failed", "cancelled"})
+    CHECK(finished_job(event({"jobs", "job/j1"}, "job", json{{"id", "j1"}, {"state", state}}.dump())) ==
+          "j1");
+  for (const char* state : {"queued", "running", "exploded"})
+    CHECK(!finished_job(event({"jobs", "job/j1"}, "job", json{{"id", "j1"}, {"state", state}}.dump())));
+  CHECK(!finished_job(event({"printers", "printer/p"}, "job", R"({"state":"done"})")));
+  CHECK(!finished_job(event({"jobs", "job/j1"}, "printer", R"({"state":"done"})")));
+  CHECK(!finished_job(event({"jobs", "job/j1"}, "job", R"({"state":1})")));
+  CHECK(!finished_job(event({"jobs", "job/j1"}, "job", "not json")));
+  CHECK(!finished_job(event({}, "job", R"({"state":"done"})")));
+}
+
+TEST_CASE("a job finished on node A reaches node B's observers as remote, A's as local, off the listener") {
+  const salient::test::ScratchDir scratch("relay-observe");
+  const DatabaseUrl url = salient::test::test_database(scratch);
+  Node a("a", url), b("b", url);
+  std::mutex mutex;
+  std::vector<std::string> finished_on_b, local_on_a;
+  std::atomic<bool> slow_done{false};
+  b.relay.on_event([&](const RelayedEvent& e) {
+    if (e.local) return;
+    if (const auto job = finished_job(e)) {
+      std::this_thread::sleep_for(500ms);  // a slow observer (starting a print) delays no subscriber
+      std::lock_guard lock(mutex);
+      finished_on_b.push_back(*job);
+      slow_done = true;
+    }
+  });
+  a.relay.on_event([&](const RelayedEvent& e) {
+    std::lock_guard lock(mutex);
+    if (const auto job = finished_job(e); job && e.local) local_on_a.push_back(*job);
+  });
+  a.relay.start();
+  b.relay.start();
+  Collector on_b(b.hub, {"jobs"});
+  a.hub.publish({"jobs", "job/j7"}, "job", R"({"id":"j7","state":"running"})");
+  a.hub.publish({"jobs", "job/j7"}, "job", R"({"id":"j7","state":"done"})");
+  a.hub.publish({"jobs", "job/j8"}, "job", R"({"id":"j8","state":"queued"})");
+  REQUIRE(on_b.wait([](const auto& v) { return v.size() == 3; }));
+  CHECK(!slow_done);  // the subscriber had all three while the observer still slept
+  for (int i = 0; i < 300 && !slow_done; ++i) std::this_thread::sleep_for(10ms);
+  std::lock_guard lock(mutex);
+  CHECK(finished_on_b == std::vector<std::string>{"j7"});
+  CHECK(local_on_a == std::vector<std::string>{"j7"});
 }
