@@ -216,7 +216,7 @@ TEST_CASE("a job event published inside a transaction is delivered at its commit
   CHECK(got[0]["data"]["state"] == "queued");
 }
 
-TEST_CASE("a listening connection killed by pg_terminate_backend reconnects: resync, then events flow") {
+TEST_CASE("connections killed by pg_terminate_backend: listeners reconnect and resync, senders send again") {
   const salient::test::ScratchDir scratch("relay-kill");
   const DatabaseUrl url = salient::test::test_database(scratch);
   EventRelayOptions quiet;
@@ -224,24 +224,32 @@ TEST_CASE("a listening connection killed by pg_terminate_backend reconnects: res
   Node a("a", url), b("b", url, quiet);
   a.relay.start();
   b.relay.start();
-  Collector on_b(b.hub, {"printers"});
+  Collector on_b(b.hub, {"printers", "jobs"});
   a.hub.publish({"printers", "printer/p"}, "printer", R"({"n":1})");
   REQUIRE(on_b.wait([](const auto& v) { return v.size() == 1; }));
   Database admin(url);
+  a.hub.publish({"jobs", "job/j"}, "job", R"({"n":2})");  // the test thread's connection, for killing
+  REQUIRE(on_b.wait([](const auto& v) { return v.size() == 2; }));
+  // Every connection but this one: both listeners, A's sender, the test thread's.
   auto kill = admin.prepare(
-      "SELECT pg_terminate_backend(pid) FROM pg_stat_activity WHERE datname = current_database() AND "
-      "query LIKE 'LISTEN%' AND pid <> pg_backend_pid()");
-  int killed = 0;
-  while (kill.step()) ++killed;
-  REQUIRE(killed == 2);  // both nodes' listeners
+      "SELECT pg_terminate_backend(pid), query FROM pg_stat_activity WHERE datname = current_database() AND "
+      "pid <> pg_backend_pid()");
+  int listeners = 0;
+  while (kill.step()) listeners += kill.text(1).rfind("LISTEN", 0) == 0;
+  REQUIRE(listeners == 2);
   REQUIRE(on_b.wait([](const auto& v) { return count_type(v, "resync") == 1; }));
   CHECK(b.relay.stats().reconnects >= 1);
-  a.hub.publish({"printers", "printer/p"}, "printer", R"({"n":2})");
-  REQUIRE(on_b.wait([](const auto& v) { return v.size() == 3; }));
+  // The sender finds its connection dead and sends again on a new one; the job event's connection
+  // is dead too: it goes through the sender.
+  a.hub.publish({"printers", "printer/p"}, "printer", R"({"n":3})");
+  a.hub.publish({"jobs", "job/j"}, "job", R"({"n":4})");
+  REQUIRE(on_b.wait([](const auto& v) { return v.size() == 5; }));
   const auto got = on_b.snapshot();
   CHECK(got[0]["data"]["n"] == 1);
-  CHECK(got[1]["type"] == "resync");
-  CHECK(got[2]["data"]["n"] == 2);
+  CHECK(got[1]["data"]["n"] == 2);
+  CHECK(got[2]["type"] == "resync");
+  CHECK(got[3]["data"]["n"] == 3);
+  CHECK(got[4]["data"]["n"] == 4);
 }
 
 TEST_CASE("a notification that is not an event (anyone may NOTIFY the channel) is skipped") {
@@ -315,4 +323,46 @@ TEST_CASE("a job finished on node A reaches node B's observers as remote, A's as
   std::lock_guard lock(mutex);
   CHECK(finished_on_b == std::vector<std::string>{"j7"});
   CHECK(local_on_a == std::vector<std::string>{"j7"});
+}
+
+TEST_CASE(
+    "a backlog at the sender: progress coalesces, terminal lines drop, state changes all arrive in order") {
+  const salient::test::ScratchDir scratch("relay-backlog");
+  const DatabaseUrl url = salient::test::test_database(scratch);
+  EventRelayOptions small;
+  small.queue_limit = 16;
+  Node a("a", url, small), b("b", url);
+  a.relay.start();
+  b.relay.start();
+  Collector on_b(b.hub, {"printers", "terminal/p"});
+  constexpr int events = 3000;
+  for (int i = 0; i < events; ++i) {  // far faster than one connection sends them
+    const std::string data = json{{"i", i}}.dump();
+    if (i % 10 == 0)
+      a.hub.publish({"printers", "printer/p"}, "printer", data);
+    else if (i % 2 == 0)
+      a.hub.publish({"printers", "printer/p"}, "printer", data, Delivery::coalesce);
+    else
+      a.hub.publish({"terminal/p"}, "terminal", data, Delivery::best_effort);
+  }
+  const auto states = [](const std::vector<json>& v) {
+    return std::count_if(v.begin(), v.end(),
+                         [](const json& j) { return j["data"]["i"].get<int>() % 10 == 0; });
+  };
+  REQUIRE(on_b.wait([&](const auto& v) { return states(v) == events / 10; }));
+  std::this_thread::sleep_for(300ms);
+  const auto got = on_b.snapshot();
+  CHECK(states(got) == events / 10);
+  std::map<std::string, int> last;
+  for (const json& j : got) {
+    const std::string subject = j["topic"];
+    const int i = j["data"]["i"];
+    if (last.count(subject)) CHECK(i > last[subject]);
+    last[subject] = i;
+  }
+  const EventRelayStats s = a.relay.stats();
+  MESSAGE("sent ", s.sent, ", coalesced ", s.coalesced, ", dropped ", s.dropped, ", received on B ",
+          got.size());
+  CHECK(s.coalesced + s.dropped > 0);
+  CHECK(got.size() == events - s.coalesced - s.dropped);
 }
