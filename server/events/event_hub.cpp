@@ -83,11 +83,25 @@ void EventHub::resync(const std::string& reason) {
 }
 
 bool EventHub::has_subscribers(const std::string& topic) const {
+  {
+    std::lock_guard lock(mutex_);
+    if (std::any_of(subscribers_.begin(), subscribers_.end(), [&](const auto& s) {
+          std::lock_guard inner(s->mutex_);
+          return s->topics_.count(topic) > 0;
+        }))
+      return true;
+  }
+  return remote_interest_ && remote_interest_(topic);
+}
+
+std::set<std::string> EventHub::topics() const {
+  std::set<std::string> out;
   std::lock_guard lock(mutex_);
-  return std::any_of(subscribers_.begin(), subscribers_.end(), [&](const auto& s) {
+  for (const auto& s : subscribers_) {
     std::lock_guard inner(s->mutex_);
-    return s->topics_.count(topic) > 0;
-  });
+    out.insert(s->topics_.begin(), s->topics_.end());
+  }
+  return out;
 }
 
 std::size_t EventHub::subscribers() const {
@@ -130,6 +144,7 @@ bool Subscription::subscribe(const std::string& topic) {
     wake = wake_;
   }
   if (wake) wake();
+  if (hub_.subscribed_) hub_.subscribed_(topic);
   return true;
 }
 

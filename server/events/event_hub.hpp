@@ -95,6 +95,16 @@ class EventHub {
   // Set once before publishing starts: then publish() hands every event to `forward` (which
   // delivers it, on this node and the others, through deliver()).
   void set_forward(ForwardFn forward) { forward_ = std::move(forward); }
+  // Also set once, by the relay: `subscribed` hears of each topic a subscriber takes (so that
+  // other nodes learn who listens), and `remote` says whether another node has a subscriber to a
+  // topic (has_subscribers counts it: a printer here then sends its terminal lines).
+  void set_interest(std::function<void(const std::string& topic)> subscribed,
+                    std::function<bool(const std::string& topic)> remote) {
+    subscribed_ = std::move(subscribed);
+    remote_interest_ = std::move(remote);
+  }
+  // Every topic some subscriber here has.
+  std::set<std::string> topics() const;
 
   // `topics`: every topic the event belongs to (a subscriber to several gets it once); the last
   // one is its subject.
@@ -107,7 +117,7 @@ class EventHub {
   // {"type": "resync", "data": {"reason": …}} and then each of its topics' snapshots again, as on
   // subscribing, so that it holds the current state whatever it missed.
   void resync(const std::string& reason);
-  bool has_subscribers(const std::string& topic) const;
+  bool has_subscribers(const std::string& topic) const;  // here or, with a relay, on another node
   std::size_t subscribers() const;
 
   static bool valid_topic(const std::string& topic);
@@ -120,6 +130,8 @@ class EventHub {
   EventHubOptions options_;
   SnapshotFn snapshot_;
   ForwardFn forward_;
+  std::function<void(const std::string&)> subscribed_;
+  std::function<bool(const std::string&)> remote_interest_;
   mutable std::mutex mutex_;
   std::vector<std::shared_ptr<Subscription>> subscribers_;
 };

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <deque>
+#include <map>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -63,7 +64,19 @@ struct Pending {
   std::vector<std::string> topics;
   std::string type, data_json;
   Delivery delivery;
+  bool interest = false;  // not an event: "this node has subscribers to `topics`"
 };
+
+// Topics whose events are only made while someone subscribes (EventHub::has_subscribers): the
+// nodes tell each other of their subscribers to these.
+bool wanted_topic(const std::string& topic) {
+  return topic.rfind("terminal/", 0) == 0;
+}
+
+std::string encode_interest(const std::string& node, std::uint64_t seq,
+                            const std::vector<std::string>& topics) {
+  return json_text(nlohmann::json{{"n", node}, {"s", seq}, {"i", topics}}) + "\n";
+}
 
 }  // namespace
 
@@ -92,6 +105,7 @@ struct EventRelay::State {
   bool running = false, stopping = false;
   std::atomic<bool> listening{false};
   bool observing = false;  // under mutex; false once the listener has stopped
+  std::map<std::string, Clock::time_point> remote_interest;  // wanted topic → until when (mutex)
   std::unique_ptr<Database> listener_db;
   std::deque<RelayedEvent> observed;  // waiting for the observers
   std::condition_variable observed_wake;
@@ -104,7 +118,9 @@ struct EventRelay::State {
   // Sends one event on `db` (inside its transaction, if one is open): NOTIFY, with the text in
   // event_payloads first if it is too large for one.
   void send(Database& db, const Pending& p) {
-    const std::string text = encode(options.node, ++seq, p.topics, p.type, p.data_json, p.delivery);
+    const std::string text = p.interest
+                                 ? encode_interest(options.node, ++seq, p.topics)
+                                 : encode(options.node, ++seq, p.topics, p.type, p.data_json, p.delivery);
     if (text.size() <= Database::kMaxNotifyPayload) return db.notify(options.channel, text);
     auto q = db.prepare("INSERT INTO event_payloads (body, created_at) VALUES (?, ?) RETURNING id");
     q.bind(1, std::string_view(text)).bind(2, unix_now());
@@ -168,6 +184,37 @@ struct EventRelay::State {
     }
   }
 
+  // Tells the other nodes of this node's subscribers to wanted topics, at most 80 a notification.
+  void announce(const std::vector<std::string>& topics) {
+    for (std::size_t at = 0; at < topics.size(); at += 80) {
+      Pending p;
+      p.topics.assign(topics.begin() + static_cast<std::ptrdiff_t>(at),
+                      topics.begin() + static_cast<std::ptrdiff_t>(std::min(topics.size(), at + 80)));
+      p.delivery = Delivery::always;
+      p.interest = true;
+      enqueue(std::move(p));
+    }
+  }
+  void announce_all() {
+    std::vector<std::string> topics;
+    for (const std::string& t : hub.topics())
+      if (wanted_topic(t)) topics.push_back(t);
+    announce(topics);
+  }
+  bool interested(const std::string& topic) {
+    std::lock_guard lock(mutex);
+    const auto it = remote_interest.find(topic);
+    return it != remote_interest.end() && it->second > Clock::now();
+  }
+  void note_interest(const std::vector<std::string>& topics) {
+    const auto until = Clock::now() + 3 * options.interest_interval;
+    std::lock_guard lock(mutex);
+    std::erase_if(remote_interest, [](const auto& kv) { return kv.second < Clock::now(); });
+    for (const std::string& t : topics)
+      if (wanted_topic(t) && EventHub::valid_topic(t) && remote_interest.size() < 100000)
+        remote_interest[t] = until;
+  }
+
   void send_batch(std::unique_ptr<Database>& db, const std::vector<Pending>& batch);
   void sweep(Database& db);
   void run_sender();
@@ -228,12 +275,16 @@ void EventRelay::State::sweep(Database& db) {
 
 void EventRelay::State::run_sender() {
   std::unique_ptr<Database> db;
-  auto next_sweep = Clock::now();
+  auto next_sweep = Clock::now(), next_announce = Clock::now() + options.interest_interval;
   for (;;) {
+    if (Clock::now() >= next_announce) {
+      announce_all();
+      next_announce = Clock::now() + options.interest_interval;
+    }
     std::vector<Pending> batch;
     {
       std::unique_lock lock(mutex);
-      wake.wait_for(lock, std::chrono::seconds(10), [&] { return stopping || !queue.empty(); });
+      wake.wait_until(lock, next_announce, [&] { return stopping || !queue.empty(); });
       if (queue.empty() && stopping) break;
       while (!queue.empty() && batch.size() < options.batch_limit) {
         batch.push_back(std::move(queue.front()));
@@ -256,6 +307,13 @@ void EventRelay::State::receive(Database& db, const Database::Notification& n) {
     if (!q.step()) throw std::invalid_argument("event_payloads row " + text.substr(1) + " is gone");
     text = q.text(0);
     q.run();
+  }
+  if (const std::size_t line = text.find('\n'); line != std::string::npos) {
+    const auto h = nlohmann::json::parse(text.substr(0, line), nullptr, false);
+    if (h.is_object() && h.contains("i") && h["i"].is_array()) {
+      note_interest(h["i"].get<std::vector<std::string>>());
+      return;
+    }
   }
   RelayedEvent e = decode(text, options.node);
   {
@@ -330,6 +388,11 @@ void EventRelay::start() {
   s.sender = std::thread([&s] { s.run_sender(); });
   s.listener = std::thread([&s] { s.run_listener(); });
   s.observer = std::thread([&s] { s.run_observers(); });
+  s.hub.set_interest(
+      [&s](const std::string& topic) {
+        if (wanted_topic(topic)) s.announce({topic});
+      },
+      [&s](const std::string& topic) { return wanted_topic(topic) && s.interested(topic); });
   s.hub.set_forward([this](const std::vector<std::string>& topics, const std::string& type,
                            const std::string& data_json,
                            Delivery delivery) { publish(topics, type, data_json, delivery); });

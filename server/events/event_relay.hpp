@@ -15,6 +15,9 @@
 //    again on a new connection: a state change may then arrive twice, never not at all.
 // Size: a NOTIFY payload is less than 8000 bytes; a larger event is stored in event_payloads
 // (migration 9) and the notification carries its id. Rows older than `payload_retention` go.
+// Terminal lines are made only while someone subscribes (EventHub::has_subscribers): each node
+// tells the others which terminal topics its subscribers have (a notification of its own, when a
+// client subscribes and every interest_interval), and has_subscribers counts those too.
 // A lost listening connection: everything NOTIFYed until it is back is missed by this node. It
 // reconnects (logged, with back-off) and then calls EventHub::resync: each subscriber gets a
 // "resync" event and the snapshots of its topics again, i.e. the current state, as on subscribing.
@@ -40,6 +43,9 @@ struct EventRelayOptions {
   std::size_t batch_limit = 256;   // events the sender sends in one transaction
   std::chrono::seconds payload_retention{600};
   std::chrono::milliseconds ping_interval{5000};  // an idle listener checks its connection this often
+  // A node tells the others of its subscribers to terminal topics when they subscribe and this
+  // often after; a printer elsewhere sends its lines while told so in the last 3 intervals.
+  std::chrono::milliseconds interest_interval{20000};
 };
 
 // An event as the listener received it, for in-process observers (EventRelay::on_event).

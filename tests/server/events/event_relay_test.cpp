@@ -366,3 +366,34 @@ TEST_CASE(
   CHECK(s.coalesced + s.dropped > 0);
   CHECK(got.size() == events - s.coalesced - s.dropped);
 }
+
+TEST_CASE("terminal lines across nodes: a subscriber on B makes A's has_subscribers true, until it leaves") {
+  const salient::test::ScratchDir scratch("relay-interest");
+  const DatabaseUrl url = salient::test::test_database(scratch);
+  EventRelayOptions fast;
+  fast.interest_interval = 200ms;
+  Node a("a", url, fast), b("b", url, fast);
+  a.relay.start();
+  b.relay.start();
+  CHECK(!a.hub.has_subscribers("terminal/p"));
+  auto on_b = std::make_unique<Collector>(b.hub, std::vector<std::string>{"terminal/p"});
+  const auto wanted_on_a = [&] {
+    for (int i = 0; i < 500; ++i) {
+      if (a.hub.has_subscribers("terminal/p")) return true;
+      std::this_thread::sleep_for(10ms);
+    }
+    return false;
+  };
+  REQUIRE(wanted_on_a());
+  CHECK(!a.hub.has_subscribers("terminal/q"));
+  a.hub.publish({"terminal/p"}, "terminal", R"({"line":"ok T:21"})", Delivery::best_effort);
+  REQUIRE(on_b->wait([](const auto& v) { return v.size() == 1; }));
+  CHECK(on_b->snapshot()[0]["data"]["line"] == "ok T:21");
+  // Still wanted after several intervals (announced again), then not once B's client is gone.
+  std::this_thread::sleep_for(1s);
+  CHECK(a.hub.has_subscribers("terminal/p"));
+  on_b->sub->closed();
+  on_b.reset();
+  std::this_thread::sleep_for(1500ms);
+  CHECK(!a.hub.has_subscribers("terminal/p"));
+}
