@@ -216,6 +216,7 @@ struct EventRelay::State {
   }
 
   void send_batch(std::unique_ptr<Database>& db, const std::vector<Pending>& batch);
+  void send_again(std::unique_ptr<Database>& db, const Pending& p);
   void sweep(Database& db);
   void run_sender();
   void run_listener();
@@ -227,39 +228,61 @@ struct EventRelay::State {
 };
 
 // One transaction per batch: one commit for many events. (A large event alone is stored, then
-// notified, in two commits: the row is there before anyone hears of it.) A failure reconnects and sends the
-// whole batch again (its transaction did not commit, or we cannot know: then twice rather than never).
+// notified, in two commits: the row is there before anyone hears of it.) After a failure the
+// events are sent again one by one, each on a working connection: twice rather than never (the
+// commit may have happened unseen). One that fails twice on a fresh connection is given up, so
+// that an event the database refuses cannot block those behind it.
 void EventRelay::State::send_batch(std::unique_ptr<Database>& db, const std::vector<Pending>& batch) {
+  try {
+    if (!db) db = std::make_unique<Database>(url);
+    if (batch.size() == 1) {
+      send(*db, batch.front());  // alone: no BEGIN and COMMIT, two round trips less
+    } else {
+      db->exec("BEGIN");
+      for (const Pending& p : batch) send(*db, p);
+      db->exec("COMMIT");
+    }
+    std::lock_guard lock(mutex);
+    stats.sent += batch.size();
+    return;
+  } catch (const std::exception& e) {
+    note("event relay: sending " + std::to_string(batch.size()) + " event(s) failed (" + e.what() +
+         "); sending them again");
+    db.reset();
+  }
+  for (const Pending& p : batch) send_again(db, p);
+}
+
+void EventRelay::State::send_again(std::unique_ptr<Database>& db, const Pending& p) {
   auto backoff = std::chrono::milliseconds(100);
-  for (int attempt = 0;; ++attempt) {
+  for (int failures = 0, unreachable = 0;;) {
     try {
       if (!db) db = std::make_unique<Database>(url);
-      if (batch.size() == 1) {
-        send(*db, batch.front());  // alone: no BEGIN and COMMIT, two round trips less
-      } else {
-        db->exec("BEGIN");
-        for (const Pending& p : batch) send(*db, p);
-        db->exec("COMMIT");
+    } catch (const std::exception& e) {
+      bool stop;
+      {
+        std::lock_guard lock(mutex);
+        stop = stopping;
       }
+      if (unreachable++ == 0 || stop) note(std::string("event relay: cannot connect: ") + e.what());
+      if (stop && unreachable > 3) return;
+      std::this_thread::sleep_for(backoff);
+      backoff = std::min(backoff * 2, std::chrono::milliseconds(5000));
+      continue;
+    }
+    try {
+      send(*db, p);
       std::lock_guard lock(mutex);
-      stats.sent += batch.size();
+      ++stats.sent;
       return;
     } catch (const std::exception& e) {
-      note("event relay: sending " + std::to_string(batch.size()) + " event(s) failed (" + e.what() +
-           "); reconnecting");
       db.reset();
-    }
-    bool stop;
-    {
+      if (++failures < 2) continue;
+      note("event relay: an event given up (topic " + p.topics.back() + "): " + e.what());
       std::lock_guard lock(mutex);
-      stop = stopping;
-    }
-    if (stop && attempt >= 3) {
-      note("event relay: stopping: " + std::to_string(batch.size()) + " event(s) not sent");
+      ++stats.dropped;
       return;
     }
-    std::this_thread::sleep_for(backoff);
-    backoff = std::min(backoff * 2, std::chrono::milliseconds(5000));
   }
 }
 

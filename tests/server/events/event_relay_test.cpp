@@ -397,3 +397,19 @@ TEST_CASE("terminal lines across nodes: a subscriber on B makes A's has_subscrib
   std::this_thread::sleep_for(1500ms);
   CHECK(!a.hub.has_subscribers("terminal/p"));
 }
+
+TEST_CASE("an event the database refuses (invalid UTF-8) is given up and blocks none behind it") {
+  const salient::test::ScratchDir scratch("relay-poison");
+  const DatabaseUrl url = salient::test::test_database(scratch);
+  Node a("a", url), b("b", url);
+  a.relay.start();
+  b.relay.start();
+  Collector on_b(b.hub, {"printers"});
+  a.hub.publish({"printers", "printer/p"}, "printer", "\"\xff\xfe\"");
+  a.hub.publish({"printers", "printer/p"}, "printer", R"({"ok":true})");
+  REQUIRE(on_b.wait([](const auto& v) { return !v.empty(); }));
+  const auto got = on_b.snapshot();
+  REQUIRE(got.size() == 1);
+  CHECK(got[0]["data"]["ok"] == true);
+  CHECK(a.relay.stats().dropped == 1);
+}
