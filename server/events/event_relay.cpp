@@ -1,7 +1,5 @@
-// EventRelay: see the header for order, size and reconnection. A notification's payload is one
-// line of JSON (node, sequence, delivery, type, topics), a newline, then the event's data JSON as
-// published, so that subscribers get the same bytes on every node; or "@ID", the row of
-// event_payloads that holds that text.
+// EventRelay: see the header for order, size and reconnection. A notification's payload is a
+// RelayedEvent's text (relayed_event.hpp), or "@ID", the row of event_payloads that holds it.
 #include "server/events/event_relay.hpp"
 
 #include <algorithm>
@@ -10,11 +8,7 @@
 #include <deque>
 #include <map>
 #include <mutex>
-#include <nlohmann/json.hpp>
 #include <thread>
-
-#include "server/common/json_text.hpp"
-#include "server/jobs/job_state.hpp"
 
 namespace salient::server {
 namespace {
@@ -30,36 +24,6 @@ bool job_topic(const std::vector<std::string>& topics) {
                      [](const std::string& t) { return t == "jobs" || t.rfind("job/", 0) == 0; });
 }
 
-std::string encode(const std::string& node, std::uint64_t seq, const std::vector<std::string>& topics,
-                   const std::string& type, const std::string& data_json, Delivery delivery) {
-  // The sequence number keeps two equal events apart: PostgreSQL folds identical notifications
-  // of one transaction into one.
-  std::string out = json_text(
-      nlohmann::json{{"n", node}, {"s", seq}, {"v", static_cast<int>(delivery)}, {"y", type}, {"t", topics}});
-  out += '\n';
-  out += data_json;
-  return out;
-}
-
-// Throws std::exception on a malformed text (not ours: anyone may NOTIFY the channel).
-RelayedEvent decode(const std::string& text, const std::string& own_node) {
-  const std::size_t line = text.find('\n');
-  if (line == std::string::npos) throw std::invalid_argument("no header line");
-  const nlohmann::json h = nlohmann::json::parse(text.substr(0, line));
-  RelayedEvent e;
-  e.node = h.at("n").get<std::string>();
-  e.type = h.at("y").get<std::string>();
-  e.topics = h.at("t").get<std::vector<std::string>>();
-  const int v = h.at("v").get<int>();
-  if (v < 0 || v > static_cast<int>(Delivery::best_effort)) throw std::invalid_argument("bad delivery");
-  e.delivery = static_cast<Delivery>(v);
-  if (e.topics.empty() || !std::all_of(e.topics.begin(), e.topics.end(), EventHub::valid_topic))
-    throw std::invalid_argument("bad topics");
-  e.data_json = text.substr(line + 1);
-  e.local = e.node == own_node;
-  return e;
-}
-
 struct Pending {
   std::vector<std::string> topics;
   std::string type, data_json;
@@ -73,21 +37,7 @@ bool wanted_topic(const std::string& topic) {
   return topic.rfind("terminal/", 0) == 0;
 }
 
-std::string encode_interest(const std::string& node, std::uint64_t seq,
-                            const std::vector<std::string>& topics) {
-  return json_text(nlohmann::json{{"n", node}, {"s", seq}, {"i", topics}}) + "\n";
-}
-
 }  // namespace
-
-std::optional<std::string> finished_job(const RelayedEvent& e) {
-  if (e.type != "job" || e.topics.empty() || e.topics.back().rfind("job/", 0) != 0) return std::nullopt;
-  const auto data = nlohmann::json::parse(e.data_json, nullptr, false);
-  if (!data.is_object() || !data.contains("state") || !data["state"].is_string()) return std::nullopt;
-  const auto state = job_state_from(data["state"].get<std::string>());
-  if (!state || !finished(*state)) return std::nullopt;
-  return e.topics.back().substr(4);
-}
 
 struct EventRelay::State {
   DatabaseUrl url;
@@ -118,9 +68,9 @@ struct EventRelay::State {
   // Sends one event on `db` (inside its transaction, if one is open): NOTIFY, with the text in
   // event_payloads first if it is too large for one.
   void send(Database& db, const Pending& p) {
-    const std::string text = p.interest
-                                 ? encode_interest(options.node, ++seq, p.topics)
-                                 : encode(options.node, ++seq, p.topics, p.type, p.data_json, p.delivery);
+    const std::string text =
+        p.interest ? encode_interest(options.node, ++seq, p.topics)
+                   : encode_event(options.node, ++seq, p.topics, p.type, p.data_json, p.delivery);
     if (text.size() <= Database::kMaxNotifyPayload) return db.notify(options.channel, text);
     auto q = db.prepare("INSERT INTO event_payloads (body, created_at) VALUES (?, ?) RETURNING id");
     q.bind(1, std::string_view(text)).bind(2, unix_now());
@@ -211,8 +161,7 @@ struct EventRelay::State {
     std::lock_guard lock(mutex);
     std::erase_if(remote_interest, [](const auto& kv) { return kv.second < Clock::now(); });
     for (const std::string& t : topics)
-      if (wanted_topic(t) && EventHub::valid_topic(t) && remote_interest.size() < 100000)
-        remote_interest[t] = until;
+      if (wanted_topic(t) && remote_interest.size() < 100000) remote_interest[t] = until;
   }
 
   void send_batch(std::unique_ptr<Database>& db, const std::vector<Pending>& batch);
@@ -331,14 +280,9 @@ void EventRelay::State::receive(Database& db, const Database::Notification& n) {
     text = q.text(0);
     q.run();
   }
-  if (const std::size_t line = text.find('\n'); line != std::string::npos) {
-    const auto h = nlohmann::json::parse(text.substr(0, line), nullptr, false);
-    if (h.is_object() && h.contains("i") && h["i"].is_array()) {
-      note_interest(h["i"].get<std::vector<std::string>>());
-      return;
-    }
-  }
-  RelayedEvent e = decode(text, options.node);
+  RelayMessage m = decode_relay_message(text, options.node);
+  if (!m.event) return note_interest(m.interest);
+  RelayedEvent& e = *m.event;
   {
     std::lock_guard lock(mutex);
     ++stats.received;

@@ -27,11 +27,11 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
-#include <optional>
 #include <string>
 #include <vector>
 
 #include "server/events/event_hub.hpp"
+#include "server/events/relayed_event.hpp"
 #include "server/store/database.hpp"
 
 namespace salient::server {
@@ -47,17 +47,6 @@ struct EventRelayOptions {
   // often after; a printer elsewhere sends its lines while told so in the last 3 intervals.
   std::chrono::milliseconds interest_interval{20000};
 };
-
-// An event as the listener received it, for in-process observers (EventRelay::on_event).
-struct RelayedEvent {
-  std::vector<std::string> topics;
-  std::string type, data_json, node;
-  Delivery delivery = Delivery::always;
-  bool local = false;  // published on this node
-};
-
-// The id of the job a "job" event says is finished (done, failed, cancelled), if it is one.
-std::optional<std::string> finished_job(const RelayedEvent& e);
 
 struct EventRelayStats {
   std::uint64_t sent = 0, received = 0, coalesced = 0, dropped = 0, reconnects = 0, stored = 0;
