@@ -12,15 +12,22 @@
 //    queue, so that a printer thread never waits for the database. Under backlog the queue folds a
 //    progress event into an unsent one about the same subject and drops progress and terminal
 //    lines beyond its bound; a state change is never dropped. A batch whose sending failed is sent
-//    again on a new connection: a state change may then arrive twice, never not at all.
+//    again on a new connection: a state change may then arrive twice, never not at all (only an
+//    event the database itself refuses twice, such as invalid UTF-8, is given up, and logged).
+//  - A job event whose sending fails outside a transaction (its connection broke) goes through
+//    the sender; inside one it fails with it, as the row does.
 // Size: a NOTIFY payload is less than 8000 bytes; a larger event is stored in event_payloads
 // (migration 9) and the notification carries its id. Rows older than `payload_retention` go.
 // Terminal lines are made only while someone subscribes (EventHub::has_subscribers): each node
 // tells the others which terminal topics its subscribers have (a notification of its own, when a
 // client subscribes and every interest_interval), and has_subscribers counts those too.
-// A lost listening connection: everything NOTIFYed until it is back is missed by this node. It
-// reconnects (logged, with back-off) and then calls EventHub::resync: each subscriber gets a
-// "resync" event and the snapshots of its topics again, i.e. the current state, as on subscribing.
+// A lost listening connection: everything NOTIFYed until it is back is missed by this node (this
+// node's own events included: they too come back through the database). It reconnects (logged,
+// with back-off) and then calls EventHub::resync: each subscriber gets a "resync" event and the
+// snapshots of its topics again, i.e. the current state, as on subscribing ("jobs" lists the
+// unfinished ones: a job that finished in the gap is no longer among them; a client that cares
+// reads GET /api/v1/jobs after a "resync").
+// SQLite: no relay; EventHub delivers in-process as it always has.
 #pragma once
 
 #include <chrono>
