@@ -40,6 +40,9 @@ bool wanted_topic(const std::string& topic) {
 }  // namespace
 
 struct EventRelay::State {
+  State(DatabaseUrl u, EventHub& h, ThreadDatabase t, EventRelayOptions o, Log l)
+      : url(std::move(u)), hub(h), thread_db(std::move(t)), options(std::move(o)), log(std::move(l)) {}
+
   DatabaseUrl url;
   EventHub& hub;
   ThreadDatabase thread_db;
@@ -335,7 +338,8 @@ void EventRelay::State::run_listener() {
 
 EventRelay::EventRelay(DatabaseUrl url, EventHub& hub, ThreadDatabase thread_db, EventRelayOptions options,
                        Log log)
-    : state_(new State{std::move(url), hub, std::move(thread_db), std::move(options), std::move(log)}) {}
+    : state_(std::make_unique<State>(std::move(url), hub, std::move(thread_db), std::move(options),
+                                     std::move(log))) {}
 
 EventRelay::~EventRelay() {
   stop();
