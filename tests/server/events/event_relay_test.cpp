@@ -413,3 +413,23 @@ TEST_CASE("an event the database refuses (invalid UTF-8) is given up and blocks 
   CHECK(got[0]["data"]["ok"] == true);
   CHECK(a.relay.stats().dropped == 1);
 }
+
+TEST_CASE("events sent in one batch keep their bytes: quotes, backslashes, braces, commas, non-ASCII") {
+  const salient::test::ScratchDir scratch("relay-bytes");
+  const DatabaseUrl url = salient::test::test_database(scratch);
+  Node a("a", url), b("b", url);
+  a.relay.start();
+  b.relay.start();
+  Collector on_b(b.hub, {"printer/p"});
+  std::vector<std::string> sent;
+  for (int i = 0; i < 200; ++i) {  // faster than one round trip each: batches of several
+    std::string line = "M117 \"a\\\\b\" {x,y} NULL , \\\" ü ✓ " + std::to_string(i);
+    if (i % 50 == 7) line += std::string(9000, '\\');  // a large one among them
+    sent.push_back(json{{"line", line}}.dump());
+    a.hub.publish({"printers", "printer/p"}, "printer", sent.back());
+  }
+  REQUIRE(on_b.wait([&](const auto& v) { return v.size() == sent.size(); }));
+  const auto got = on_b.snapshot();
+  for (std::size_t i = 0; i < sent.size(); ++i) CHECK(got[i]["data"].dump() == sent[i]);
+  CHECK(a.relay.stats().stored == 4);
+}
