@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
 #include <thread>
 
 #include "core/common/input_error.hpp"
@@ -21,6 +22,7 @@
 #include "server/build_info.hpp"
 #include "server/config/daemon_config.hpp"
 #include "server/events/event_hub.hpp"
+#include "server/events/event_relay.hpp"
 #include "server/http/http_server.hpp"
 #include "server/jobs/job_service.hpp"
 #include "server/metrics/metrics.hpp"
@@ -74,6 +76,25 @@ void raise_descriptor_limit() {
   if (getrlimit(RLIMIT_NOFILE, &limit) != 0 || limit.rlim_cur >= limit.rlim_max) return;
   limit.rlim_cur = std::min<rlim_t>(limit.rlim_max, 65536);
   setrlimit(RLIMIT_NOFILE, &limit);
+}
+
+// With a PostgreSQL store: the relay that carries the events between the nodes, started. A job
+// that finished on another node starts the prints here that wait for it (this node's own jobs do
+// that from JobService's callback, hence `local` is skipped). With SQLite: none, as before.
+std::unique_ptr<EventRelay> start_event_relay(Store& store, EventHub& hub, PrinterService& printers,
+                                              const std::string& node) {
+  if (store.database_url().dialect != Dialect::postgresql) return nullptr;
+  EventRelayOptions options;
+  options.node = node;
+  auto relay = std::make_unique<EventRelay>(
+      store.database_url(), hub, [&store]() -> Database& { return store.db(); }, options, log_line);
+  relay->on_event([&printers](const RelayedEvent& e) {
+    if (!e.local)
+      if (const auto job = finished_job(e)) printers.job_finished(*job);
+  });
+  relay->start();
+  log_line("events: relayed between nodes through PostgreSQL (LISTEN/NOTIFY), node=" + node);
+  return relay;
 }
 
 int serve(const std::string& config_path, const std::string& data, const std::string& listen,
@@ -136,6 +157,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
   ApiKeys keys(store);
   EventHub hub;
+  std::unique_ptr<EventRelay> relay;  // PostgreSQL only: set once the printers exist
   OctoState octo;
   Sessions sessions;
   PushHub push(sessions, store, octo,
@@ -143,6 +165,16 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   PrinterService printers(config, store, push.hooks(printer_event_publisher(hub)));
   push.attach(printers);
   hub.set_snapshot(event_snapshots(store, printers));
+  // On PostgreSQL the events go through the database to every node's subscribers (and this one's).
+  // Declared before the printers, which publish into it until they are gone; stopped before them,
+  // since it calls into them (RelayStop, also when an exception unwinds).
+  relay = start_event_relay(store, hub, printers, config.node.id);
+  struct RelayStop {
+    EventRelay* relay;
+    ~RelayStop() {
+      if (relay) relay->stop();
+    }
+  } const relay_stop{relay.get()};
   const auto publish_job = job_event_publisher(hub);
   JobService jobs(store, job_service_options(config), [&](const Job& j) {
     publish_job(j);
@@ -205,6 +237,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   jobs.stop(std::chrono::milliseconds(0));  // running jobs are told to stop, not waited for yet
   push.stop();                              // its thread reads the printers: it ends before they do
   printers.stop();                          // a running print is interrupted (heaters off) and can be resumed
+  if (relay) relay->stop();                 // sends what the printers said last; no more calls into them
   if (!jobs.stop(std::chrono::seconds(1))) {
     // A job inside one long solve has not seen its cancel yet. Its row says "running", so it is
     // re-queued at the next start, as after a crash: nothing to wait for.

@@ -56,6 +56,12 @@ std::shared_ptr<Subscription> EventHub::subscribe(std::function<void()> wake) {
 
 void EventHub::publish(const std::vector<std::string>& topics, const std::string& type,
                        const std::string& data_json, Delivery delivery) {
+  if (forward_) return forward_(topics, type, data_json, delivery);
+  deliver(topics, type, data_json, delivery);
+}
+
+void EventHub::deliver(const std::vector<std::string>& topics, const std::string& type,
+                       const std::string& data_json, Delivery delivery) {
   std::vector<std::shared_ptr<Subscription>> targets;
   {
     std::lock_guard lock(mutex_);
@@ -67,12 +73,35 @@ void EventHub::publish(const std::vector<std::string>& topics, const std::string
     if (auto wake = s->offer(topics, text, delivery)) wake();
 }
 
+void EventHub::resync(const std::string& reason) {
+  std::vector<std::shared_ptr<Subscription>> targets;
+  {
+    std::lock_guard lock(mutex_);
+    targets = subscribers_;
+  }
+  for (const auto& s : targets) s->resync(reason);
+}
+
 bool EventHub::has_subscribers(const std::string& topic) const {
+  {
+    std::lock_guard lock(mutex_);
+    if (std::any_of(subscribers_.begin(), subscribers_.end(), [&](const auto& s) {
+          std::lock_guard inner(s->mutex_);
+          return s->topics_.count(topic) > 0;
+        }))
+      return true;
+  }
+  return remote_interest_ && remote_interest_(topic);
+}
+
+std::set<std::string> EventHub::topics() const {
+  std::set<std::string> out;
   std::lock_guard lock(mutex_);
-  return std::any_of(subscribers_.begin(), subscribers_.end(), [&](const auto& s) {
+  for (const auto& s : subscribers_) {
     std::lock_guard inner(s->mutex_);
-    return s->topics_.count(topic) > 0;
-  });
+    out.insert(s->topics_.begin(), s->topics_.end());
+  }
+  return out;
 }
 
 std::size_t EventHub::subscribers() const {
@@ -115,6 +144,7 @@ bool Subscription::subscribe(const std::string& topic) {
     wake = wake_;
   }
   if (wake) wake();
+  if (hub_.subscribed_) hub_.subscribed_(topic);
   return true;
 }
 
@@ -129,6 +159,29 @@ bool Subscription::enqueue_state(std::string text, const std::string& subject) {
   bytes_ += text.size();
   queue_.push_back({std::move(text), subject, Delivery::always});
   return true;
+}
+
+void Subscription::resync(const std::string& reason) {
+  std::set<std::string> topics;
+  {
+    std::lock_guard lock(mutex_);
+    if (closed_) return;
+    topics = topics_;
+  }
+  std::vector<std::pair<std::string, std::vector<std::pair<std::string, std::string>>>> snapshots;
+  for (const std::string& topic : topics)
+    snapshots.emplace_back(
+        topic, hub_.snapshot_ ? hub_.snapshot_(topic) : decltype(snapshots)::value_type::second_type{});
+  std::function<void()> wake;
+  {
+    std::lock_guard lock(mutex_);
+    if (enqueue_state(EventHub::message("", "resync", json_text(nlohmann::json{{"reason", reason}})), {}))
+      for (const auto& [topic, snapshot] : snapshots)
+        for (const auto& [type, data] : snapshot)
+          if (!enqueue_state(EventHub::message(topic, type, data), topic)) break;
+    wake = wake_;
+  }
+  if (wake) wake();
 }
 
 void Subscription::unsubscribe(const std::string& topic) {

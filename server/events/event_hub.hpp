@@ -30,6 +30,11 @@ enum class Delivery {
   best_effort,  // a terminal line: dropped when the queue is full
 };
 
+// Where published events go instead of straight to the subscribers (EventRelay, between nodes):
+// it delivers them back through EventHub::deliver.
+using ForwardFn = std::function<void(const std::vector<std::string>& topics, const std::string& type,
+                                     const std::string& data_json, Delivery delivery)>;
+
 // A topic's current state, sent first to whoever subscribes to it: (type, data JSON) pairs.
 using SnapshotFn = std::function<std::vector<std::pair<std::string, std::string>>(const std::string& topic)>;
 
@@ -46,6 +51,7 @@ class Subscription : public WebSocketChannel {
   void receive(const std::string& text) override;
   bool subscribe(const std::string& topic);  // false: not a topic
   void unsubscribe(const std::string& topic);
+  void resync(const std::string& reason);
 
   void open(std::function<void()> wake) override;
   std::optional<std::string> next() override;
@@ -86,11 +92,32 @@ class EventHub {
   void set_snapshot(SnapshotFn snapshot) { snapshot_ = std::move(snapshot); }
   std::shared_ptr<Subscription> subscribe(std::function<void()> wake = {});
 
+  // Set once before publishing starts: then publish() hands every event to `forward` (which
+  // delivers it, on this node and the others, through deliver()).
+  void set_forward(ForwardFn forward) { forward_ = std::move(forward); }
+  // Also set once, by the relay: `subscribed` hears of each topic a subscriber takes (so that
+  // other nodes learn who listens), and `remote` says whether another node has a subscriber to a
+  // topic (has_subscribers counts it: a printer here then sends its terminal lines).
+  void set_interest(std::function<void(const std::string& topic)> subscribed,
+                    std::function<bool(const std::string& topic)> remote) {
+    subscribed_ = std::move(subscribed);
+    remote_interest_ = std::move(remote);
+  }
+  // Every topic some subscriber here has.
+  std::set<std::string> topics() const;
+
   // `topics`: every topic the event belongs to (a subscriber to several gets it once); the last
   // one is its subject.
   void publish(const std::vector<std::string>& topics, const std::string& type, const std::string& data_json,
                Delivery delivery = Delivery::always);
-  bool has_subscribers(const std::string& topic) const;
+  // To this node's subscribers, now: what publish() does without a forward.
+  void deliver(const std::vector<std::string>& topics, const std::string& type, const std::string& data_json,
+               Delivery delivery = Delivery::always);
+  // After events may have been missed (the relay lost its connection): every subscriber gets
+  // {"type": "resync", "data": {"reason": …}} and then each of its topics' snapshots again, as on
+  // subscribing, so that it holds the current state whatever it missed.
+  void resync(const std::string& reason);
+  bool has_subscribers(const std::string& topic) const;  // here or, with a relay, on another node
   std::size_t subscribers() const;
 
   static bool valid_topic(const std::string& topic);
@@ -102,6 +129,9 @@ class EventHub {
 
   EventHubOptions options_;
   SnapshotFn snapshot_;
+  ForwardFn forward_;
+  std::function<void(const std::string&)> subscribed_;
+  std::function<bool(const std::string&)> remote_interest_;
   mutable std::mutex mutex_;
   std::vector<std::shared_ptr<Subscription>> subscribers_;
 };

@@ -1,5 +1,7 @@
 #include "server/store/database.hpp"
 
+#include <algorithm>
+
 #include "server/store/database_backend.hpp"
 #include "server/store/migrations.hpp"
 
@@ -89,6 +91,39 @@ int Database::schema_version() const {
 }
 int Database::latest_schema_version() {
   return migration_count();
+}
+
+namespace {
+
+void check_channel(std::string_view channel) {
+  const bool ok =
+      !channel.empty() && channel.size() <= 63 && std::all_of(channel.begin(), channel.end(), [](char c) {
+        return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+      });
+  if (!ok)
+    throw StoreError("notification channel '" + std::string(channel.substr(0, 80)) +
+                     "': use 1 to 63 lower-case letters, digits or '_'");
+}
+
+}  // namespace
+
+void Database::notify(std::string_view channel, std::string_view payload) {
+  check_channel(channel);
+  if (payload.size() > kMaxNotifyPayload)
+    throw StoreError("notification payload of " + std::to_string(payload.size()) + " bytes: at most " +
+                     std::to_string(kMaxNotifyPayload));
+  backend_->notify(channel, payload);
+}
+
+void Database::listen(std::string_view channel) {
+  check_channel(channel);
+  backend_->listen(channel);
+}
+
+std::optional<Database::Notification> Database::wait_notification(std::chrono::milliseconds timeout) {
+  auto n = backend_->wait_notification(static_cast<int>(std::max<std::int64_t>(0, timeout.count())));
+  if (!n) return std::nullopt;
+  return Notification{std::move(n->first), std::move(n->second)};
 }
 
 void Database::migrate() {

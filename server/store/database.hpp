@@ -5,6 +5,8 @@
 // No SQLite or libpq type appears here.
 #pragma once
 
+#include <chrono>
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -65,6 +67,22 @@ class Database {
   bool in_transaction() const;
   int schema_version() const;
   static int latest_schema_version();
+
+  // Notifications between the nodes of a PostgreSQL store (NOTIFY/LISTEN). `channel`: lower-case
+  // letters, digits and '_', at most 63; `payload`: shorter than 8000 bytes (PostgreSQL's limit).
+  // notify() runs on this connection, so inside an open transaction it is sent at its commit and
+  // not at all on rollback. A SQLite store has one node and nothing to notify: these throw
+  // StoreError there (a caller that forgot to check the dialect hears of it).
+  static constexpr std::size_t kMaxNotifyPayload = 7999;
+  struct Notification {
+    std::string channel, payload;
+  };
+  void notify(std::string_view channel, std::string_view payload);
+  void listen(std::string_view channel);  // this connection then receives the channel's notifications
+  // The next notification for a channel this connection listens to, waiting up to `timeout`;
+  // nothing if none came. Throws StoreError if the connection broke: LISTEN went with it, so the
+  // caller opens a new Database and listens again.
+  std::optional<Notification> wait_notification(std::chrono::milliseconds timeout);
 
   // A write transaction, rolled back unless commit() was called. Writers wait for each other
   // (SQLite: BEGIN IMMEDIATE; PostgreSQL: BEGIN and an advisory lock), so that a read then a

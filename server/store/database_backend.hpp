@@ -5,8 +5,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "server/store/database_url.hpp"
 
@@ -43,6 +45,12 @@ class DatabaseBackend {
   virtual void set_schema_version(int version) = 0;  // inside the migration's transaction
   // A write transaction that excludes other writers, as SQLite's BEGIN IMMEDIATE does.
   virtual void begin_write() = 0;
+  // Notifications between connections (PostgreSQL's NOTIFY/LISTEN); SQLite throws StoreError.
+  virtual void notify(std::string_view channel, std::string_view payload) = 0;
+  virtual void listen(std::string_view channel) = 0;
+  // Waits up to `timeout_ms` for one notification (channel, payload); throws StoreError if the
+  // connection broke.
+  virtual std::optional<std::pair<std::string, std::string>> wait_notification(int timeout_ms) = 0;
 };
 
 std::unique_ptr<DatabaseBackend> open_sqlite(const std::string& file);

@@ -117,6 +117,18 @@ ALTER TABLE jobs ADD COLUMN cancel_requested {INT} NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN requeues TEXT NOT NULL DEFAULT '[]';
 CREATE INDEX jobs_by_node ON jobs (node, state);
 )sql",
+    // 8: placeholder for the printers-across-nodes migration (s13-printers), replaced when merged.
+    "SELECT 1;",
+    // 9: events too large for a NOTIFY payload (8000 bytes), which then carries the row's id
+    // (server/events/event_relay). Rows are read once by each node and swept after minutes.
+    R"sql(
+CREATE TABLE event_payloads (
+  id {ID},
+  body TEXT NOT NULL,
+  created_at {REAL} NOT NULL
+);
+CREATE INDEX event_payloads_by_age ON event_payloads (created_at);
+)sql",
 };
 
 // Token, SQLite's words, PostgreSQL's words. SQLite's are the text the entries had before there

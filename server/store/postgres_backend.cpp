@@ -3,7 +3,10 @@
 // text format and are converted on reading. The schema version lives in a table, salient_schema; writers that
 // SQLite would serialise with BEGIN IMMEDIATE are serialised here by a transaction-scoped advisory lock.
 #include <libpq-fe.h>
+#include <poll.h>
 
+#include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <unordered_map>
@@ -260,9 +263,48 @@ class PostgresBackend final : public DatabaseBackend {
   }
   void begin_write() override { exec(std::string("BEGIN; ") + write_lock); }
 
+  // pg_notify rather than NOTIFY: the channel and payload are parameters, never quoted by hand.
+  void notify(std::string_view channel, std::string_view payload) override {
+    PostgresStatement q(c_, "SELECT pg_notify(?, ?)");
+    q.bind_text(1, channel);
+    q.bind_text(2, payload);
+    while (q.step()) {
+    }
+  }
+  void listen(std::string_view channel) override {
+    // The channel was checked by Database (letters, digits, '_'): safe inside quotes.
+    exec("LISTEN \"" + std::string(channel) + "\"");
+  }
+  std::optional<std::pair<std::string, std::string>> wait_notification(int timeout_ms) override;
+
  private:
   Connection c_;
 };
+
+// Notifications arrive on the socket between queries: read what is there, else poll() it until
+// something comes. EOF or an error on the socket is a broken connection, reported as StoreError.
+std::optional<std::pair<std::string, std::string>> PostgresBackend::wait_notification(int timeout_ms) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+  for (;;) {
+    if (PQconsumeInput(c_.conn) == 0 || PQstatus(c_.conn) == CONNECTION_BAD) {
+      std::string message = PQerrorMessage(c_.conn);
+      while (!message.empty() && (message.back() == '\n' || message.back() == ' ')) message.pop_back();
+      throw StoreError("PostgreSQL: the listening connection was lost: " + message);
+    }
+    if (PGnotify* n = PQnotifies(c_.conn)) {
+      std::pair<std::string, std::string> out(n->relname, n->extra ? n->extra : "");
+      PQfreemem(n);
+      return out;
+    }
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - std::chrono::steady_clock::now());
+    if (left.count() <= 0) return std::nullopt;
+    pollfd p{PQsocket(c_.conn), POLLIN, 0};
+    if (p.fd < 0) throw StoreError("PostgreSQL: the listening connection has no socket");
+    const int rc = ::poll(&p, 1, static_cast<int>(left.count()));
+    if (rc < 0 && errno != EINTR) throw StoreError(std::string("PostgreSQL: poll: ") + std::strerror(errno));
+  }
+}
 
 }  // namespace
 

@@ -13,6 +13,10 @@ bool full(int rc) {
   return (rc & 0xff) == SQLITE_FULL;
 }
 
+[[noreturn]] void no_notifications() {
+  throw StoreError("notifications between nodes need a PostgreSQL store; SQLite has one node");
+}
+
 class SqliteStatement final : public StatementBackend {
  public:
   SqliteStatement(sqlite3* db, sqlite3_stmt* stmt) : db_(db), stmt_(stmt) {}
@@ -109,6 +113,11 @@ class SqliteBackend final : public DatabaseBackend {
   // IMMEDIATE: takes the write lock now, so that a transaction never fails half-way on a busy
   // database (the busy timeout waits for it instead).
   void begin_write() override { exec("BEGIN IMMEDIATE"); }
+  // One SQLite store is one node: there is nobody to notify. An error rather than a silent no-op,
+  // so that a caller that forgot to check the dialect does not lose its events unseen.
+  void notify(std::string_view, std::string_view) override { no_notifications(); }
+  void listen(std::string_view) override { no_notifications(); }
+  std::optional<std::pair<std::string, std::string>> wait_notification(int) override { no_notifications(); }
 
  private:
   sqlite3* db_ = nullptr;
