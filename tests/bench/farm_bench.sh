@@ -7,8 +7,8 @@
 #     sliced job (pg_stat_database.xact_commit before and after), and the transactions per second
 #     this PostgreSQL sustains (pgbench, simple updates), for the capacity calculation in
 #     BENCHMARKS.md;
-#  3. the lease scheme's claims per second and the event latency across nodes, when those
-#     benchmarks are built (claims_bench, event_latency_bench).
+#  3. the lease scheme's claims per second (claims_bench) and 4. the event latency across nodes
+#     (event_relay_bench), on the same cluster.
 #   tests/bench/farm_bench.sh [BUILD_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -108,7 +108,9 @@ for c in 1 4 16; do
   tps=$("$bin/pgbench" -n -N -c $c -j 2 -T 10 "$database" 2>/dev/null | awk '/^tps/ {print $3; exit}')
   echo "pgbench -N (simple updates), $c clients: $tps transactions/s"
 done
-for b in claims_bench event_latency_bench; do
-  path=$(find "$build/tests/bench" -maxdepth 1 -name "$b" -type f | head -1)
-  if [ -n "$path" ]; then echo "== $b"; "$path" "$database"; fi
-done
+echo "== 3. claims per second with the lease scheme (claim, renew, finish; K connections)"
+echo "   $build/tests/bench/claims_bench URL 3000 1 2 4 8"
+"$build/tests/bench/claims_bench" "$database" 3000 1 2 4 8
+echo "== 4. event latency across two relays (nodes) on this PostgreSQL"
+echo "   $build/tests/bench/event_relay_bench URL 5000 1000"
+"$build/tests/bench/event_relay_bench" "$database" 5000 1000
