@@ -107,6 +107,45 @@ CREATE TABLE settings (
 ALTER TABLE prints ADD COLUMN filament_mm {REAL} NOT NULL DEFAULT 0;
 ALTER TABLE prints ADD COLUMN paused_seconds {REAL} NOT NULL DEFAULT 0;
 )sql",
+    // 7: reserved for jobs across nodes (s13-jobs); a placeholder until it is merged.
+    R"sql(SELECT 1;)sql",
+    // 8: printers across nodes (a farm on one PostgreSQL): the nodes and their liveness (a node
+    // renews heartbeat_at; one older than its lease is dead), every node's printers with the
+    // status GET /api/v1/printers/{id} gives, and requests for a printer carried to the node that
+    // owns it (state: pending → taken → answered, or cancelled when the caller gave up).
+    R"sql(
+CREATE TABLE nodes (
+  id TEXT PRIMARY KEY,
+  roles TEXT NOT NULL,
+  version TEXT,
+  started_at {REAL},
+  heartbeat_at {REAL} NOT NULL
+);
+CREATE TABLE farm_printers (
+  id TEXT PRIMARY KEY,
+  node TEXT NOT NULL,
+  profile TEXT NOT NULL,
+  status TEXT NOT NULL,
+  updated_at {REAL} NOT NULL
+);
+CREATE INDEX farm_printers_by_node ON farm_printers (node);
+CREATE TABLE printer_requests (
+  id {ID},
+  node TEXT NOT NULL,
+  state TEXT NOT NULL CHECK (state IN ('pending', 'taken', 'answered', 'cancelled')),
+  method TEXT NOT NULL,
+  target TEXT NOT NULL,
+  body TEXT NOT NULL,
+  caller TEXT NOT NULL,
+  role TEXT NOT NULL,
+  status {INT},
+  headers TEXT,
+  response TEXT,
+  created_at {REAL} NOT NULL,
+  answered_at {REAL}
+);
+CREATE INDEX printer_requests_by_node ON printer_requests (node, state, id);
+)sql",
 };
 
 // Token, SQLite's words, PostgreSQL's words. SQLite's are the text the entries had before there
