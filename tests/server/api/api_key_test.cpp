@@ -147,6 +147,7 @@ TEST_CASE("a hex key of a data directory from before users (schema 3) is the adm
         "DROP INDEX api_keys_by_user; ALTER TABLE api_keys DROP COLUMN user; DROP TABLE users; "
         "DROP TABLE folders; DROP TABLE settings; "
         "ALTER TABLE prints DROP COLUMN filament_mm; ALTER TABLE prints DROP COLUMN paused_seconds; "
+        "DROP TABLE nodes; DROP TABLE farm_printers; DROP TABLE printer_requests; "
         "PRAGMA user_version = 3;");
     old.prepare("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', 1)")
         .bind(1, std::string_view(sha256_hex(hex)))

@@ -166,6 +166,7 @@ db = sqlite3.connect(sys.argv[1])
 db.executescript("DROP INDEX api_keys_by_user; ALTER TABLE api_keys DROP COLUMN user; DROP TABLE users;"
                  "DROP TABLE folders; DROP TABLE settings;"
                  "ALTER TABLE prints DROP COLUMN filament_mm; ALTER TABLE prints DROP COLUMN paused_seconds;"
+                 "DROP TABLE nodes; DROP TABLE farm_printers; DROP TABLE printer_requests;"
                  "DELETE FROM api_keys; PRAGMA user_version = 3;")
 db.execute("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', 1)",
            (hashlib.sha256(sys.argv[2].encode()).hexdigest(),))
