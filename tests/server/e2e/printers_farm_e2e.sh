@@ -1,0 +1,143 @@
+#!/usr/bin/env bash
+# Printers across nodes, on one PostgreSQL: node X (role printers, one simulated printer x1, no
+# HTTP) and node Y (roles api and slicer, no printer):
+#  - Y lists x1 with its node; a job sliced on Y prints on x1 through Y's API, and the
+#    simulator executed exactly its G-code;
+#  - pause, resume and cancel through Y reach x1;
+#  - X killed (-9) mid-print: Y lists x1 offline, the print interrupted, a request for it 503;
+#  - X restarted: the print resumed through Y finishes;
+#  - X frozen: a request through Y is answered 504 naming X, and never runs later.
+#   printers_farm_e2e.sh SALIENTD MODELS_DIR WORKDIR PG_DIR
+set -euo pipefail
+salientd=$1 models=$2 work=$3 pg_dir=$4
+here=$(cd "$(dirname "$0")" && pwd)
+rm -rf "$work" && mkdir -p "$work" && cd "$work"
+. "$here/../../support/salientd.sh"
+xpid=
+trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; [ -n "$xpid" ] && kill -CONT "$xpid" 2>/dev/null && kill -9 "$xpid" 2>/dev/null; true' EXIT
+if [ ! -s "$pg_dir/url" ]; then
+  echo "skipped: $(cat "$pg_dir/skip" 2>/dev/null || echo "no test PostgreSQL in $pg_dir")"
+  exit 77
+fi
+cluster=$(cat "$pg_dir/url")
+export PGOPTIONS="-c client_min_messages=warning"
+name=e2e_printers_$$
+psql -X -q "$cluster/postgres" -c "DROP DATABASE IF EXISTS $name" -c "CREATE DATABASE $name"
+database="$cluster/$name"
+api() { curl -s -H "X-Api-Key: $key" "$@"; }
+eval_json() { python3 -c "import json,sys; d=json.load(sys.stdin); print(eval(sys.argv[1]))" "$1"; }
+
+x_config() {  # x_config TAG: node X with x1, its simulator logging to sim-TAG.log
+  cat > x.toml <<TOML
+[node]
+id = "X"
+roles = ["printers"]
+lease_seconds = 3
+
+[[printers]]
+id = "x1"
+kind = "sim"
+sim_args = "--advanced-ok --time-scale 0.05 --heat-time-scale 0 --log $PWD/sim-$1.log"
+TOML
+}
+start_x() {  # X serves no HTTP: it is up when it says so
+  local before
+  before=$(grep -c "serving no HTTP" x.log 2>/dev/null || true)
+  "$salientd" --data xdata --config x.toml --database "$database" 2>>x.log &
+  xpid=$!
+  for _ in $(seq 600); do
+    [ "$(grep -c "serving no HTTP" x.log 2>/dev/null || true)" -gt "${before:-0}" ] && return 0
+    sleep 0.05
+  done
+  tail x.log; fail "node X did not start"
+}
+x1() { api "$base/api/v1/printers/x1" | field "$1"; }
+wait_x1() {  # wait_x1 STATE
+  for _ in $(seq 1200); do [ "$(x1 "['state']")" = "$1" ] && return 0; sleep 0.1; done
+  fail "x1 never $1 (is $(x1 "['state']"))"
+}
+last_print() { api "$base/api/v1/printers/x1/prints" | field "['prints'][0]$1"; }
+wait_print() {  # wait_print STATE
+  for _ in $(seq 1200); do [ "$(last_print "['state']")" = "$1" ] && return 0; sleep 0.1; done
+  fail "the last print on x1 never $1 (is $(last_print "['state']"))"
+}
+
+cat > y.toml <<TOML
+[node]
+id = "Y"
+roles = ["api", "slicer"]
+lease_seconds = 3
+TOML
+start y.toml ydata
+x_config 1
+start_x
+grep -q "node=X roles=printers" x.log || fail "X's start line: $(grep salientd x.log)"
+
+# 1. Y lists x1 on X; a job sliced on Y prints on x1 through Y, exactly.
+wait_x1 operational
+api "$base/api/v1/printers" > list.json
+[ "$(eval_json "[(p['id'], p['node']) for p in d['printers']]" < list.json)" = "[('x1', 'X')]" ] ||
+  fail "Y's printer list: $(cat list.json)"
+id=$(api -F "file=@$models/suzanne.obj" -F 'settings={"height": 8}' "$base/api/v1/jobs" | field "['id']")
+wait_state "$id" done
+api -o job.gcode "$base/api/v1/jobs/$id/gcode"
+code=$(api -o print.json -w '%{http_code}' -XPOST -d "{\"job\": \"$id\"}" "$base/api/v1/printers/x1/print")
+[ "$code" = 202 ] || fail "print through Y: $code $(cat print.json)"
+[ "$(field "['node']" < print.json)" = X ] || [ "$(field "['id']" < print.json)" = x1 ] || fail "print answer: $(cat print.json)"
+wait_print finished
+[ "$(last_print "['job']")" = "$id" ] || fail "x1's last print is not job $id"
+same_commands job.gcode sim-1.log
+
+# 2. Pause, resume and cancel through Y.
+python3 -c "
+for i in range(3000): print(f'G1 X{10 + i % 100} Y{10 + (i // 100)} F1200')" > slow.gcode
+api -o /dev/null -F "file=@slow.gcode;filename=slow.gcode" "$base/api/files/local"
+code=$(api -o p2.json -w '%{http_code}' -XPOST -d '{"file": "slow.gcode"}' "$base/api/v1/printers/x1/print")
+[ "$code" = 202 ] || fail "file print through Y: $code $(cat p2.json)"
+wait_x1 printing
+code=$(api -o pause.json -w '%{http_code}' -XPOST "$base/api/v1/printers/x1/pause")
+[ "$code" = 202 ] || fail "pause through Y: $code $(cat pause.json)"
+wait_x1 paused
+[ "$(last_print "['state']")" = paused ] || fail "the print is not paused in the store"
+api -o /dev/null -XPOST "$base/api/v1/printers/x1/resume"
+wait_x1 printing
+code=$(api -o cancel.json -w '%{http_code}' -XPOST "$base/api/v1/printers/x1/cancel")
+[ "$code" = 202 ] || fail "cancel through Y: $code $(cat cancel.json)"
+wait_print cancelled
+wait_x1 operational
+
+# 3. X killed mid-print: x1 offline on Y, the print interrupted, requests for it 503.
+api -o /dev/null -XPOST -d '{"file": "slow.gcode"}' "$base/api/v1/printers/x1/print"
+for _ in $(seq 600); do [ "$(last_print "['confirmed']")" -gt 200 ] 2>/dev/null && break; sleep 0.1; done
+kill -9 "$xpid"; wait "$xpid" 2>/dev/null || true; xpid=
+print=$(last_print "['id']")
+wait_x1 offline
+wait_print interrupted
+[ "$(last_print "['resumable']")" = True ] || fail "the interrupted print is not resumable: $(api "$base/api/v1/printers/x1/prints")"
+code=$(api -o dead.json -w '%{http_code}' -XPOST "$base/api/v1/printers/x1/pause")
+[ "$code" = 503 ] && grep -q "'X'" dead.json || fail "a request for a dead node's printer: $code $(cat dead.json)"
+
+# 4. X back: the print resumed through Y finishes.
+x_config 2
+start_x
+wait_x1 operational
+[ "$(last_print "['state']")" = interrupted ] || fail "X's restart changed its print: $(last_print "['state']")"
+code=$(api -o resume.json -w '%{http_code}' -XPOST -d "{\"resume\": $print}" "$base/api/v1/printers/x1/print")
+[ "$code" = 202 ] || fail "resume through Y: $code $(cat resume.json)"
+wait_print finished
+
+# 5. X frozen: 504 naming X (after the request timeout); thawed, X never runs the request.
+kill -STOP "$xpid"
+code=$(api -o late.json -w '%{http_code}' -XPOST -d '{"commands": ["M117 too late"]}' "$base/api/v1/printers/x1/command")
+kill -CONT "$xpid"
+[ "$code" = 504 ] && grep -q "'X'" late.json || fail "a frozen node's request: $code $(cat late.json)"
+wait_x1 operational
+code=$(api -o marker.json -w '%{http_code}' -XPOST -d '{"commands": ["M117 marker"]}' "$base/api/v1/printers/x1/command")
+[ "$code" = 202 ] || fail "a command after the thaw: $code $(cat marker.json)"
+eventually 60 grep -q "M117 marker" sim-2.log || fail "the marker never reached the simulator"
+! grep -q "too late" sim-2.log || fail "the cancelled request ran late"
+
+stop
+kill -TERM "$xpid"; wait "$xpid" || true; xpid=
+psql -X -q "$cluster/postgres" -c "DROP DATABASE $name"
+echo "PASS: x1 on X listed, printed exactly, paused, resumed, cancelled through Y; offline and interrupted when X died; resumed through Y after its restart; 504 for a frozen X, never run late"
