@@ -168,7 +168,11 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   NodePresence presence(
       store, {config.node.id, role_names, std::string(version()), config.node.lease_seconds}, &printers,
       [](const Printer& p) { return json_text(printer_status_json(p.status())); });
-  PrinterFarm printer_farm(store, {config.node.id, config.node.lease_seconds, 10, config.max_json_bytes});
+  // A request for another node's printer holds an HTTP thread while it waits for the answer: a
+  // farm's API node gets more of them, and at most all but two wait at once.
+  if (farm) http.threads = std::max(http.threads, 8);
+  PrinterFarm printer_farm(
+      store, {config.node.id, config.node.lease_seconds, 10, config.max_json_bytes, http.threads - 2});
   if (farm)
     printers.set_farm_profiles(
         [&printer_farm](const std::string& profile) { return printer_farm.profile_live(profile); });

@@ -82,6 +82,24 @@ HttpResponse PrinterFarm::forward(const HttpRequest& request, const FarmPrinter&
                           "a request for a printer of another node may carry at most " +
                               std::to_string(options_.max_body_bytes) +
                               " bytes (upload G-code through /api/files/local)");
+  if (waiting_.fetch_add(1) >= options_.max_waiting) {
+    waiting_.fetch_sub(1);
+    HttpResponse busy = error_response(
+        503, "too_busy", "too many requests are waiting for other nodes; try again in a moment");
+    busy.headers.emplace_back("Retry-After", "1");
+    return busy;
+  }
+  try {
+    HttpResponse out = carry(request, printer);
+    waiting_.fetch_sub(1);
+    return out;
+  } catch (...) {
+    waiting_.fetch_sub(1);
+    throw;
+  }
+}
+
+HttpResponse PrinterFarm::carry(const HttpRequest& request, const FarmPrinter& printer) {
   const Principal caller = request.caller.value_or(Principal{"admin", Role::admin, 0});
   FarmStore farm(store_.db());
   const long long id = farm.post({0, printer.node, request.method, local_target(request), request.body,

@@ -27,6 +27,10 @@ class PrinterFarm {
     double lease_seconds = 15;
     double timeout_seconds = 10;              // for a forwarded request's answer
     std::size_t max_body_bytes = 256u << 10;  // a forwarded body (G-code goes through the files routes)
+    // Handlers run on the HTTP server's threads, and a forwarded request holds one while it waits:
+    // beyond this many waiting at once, 503 with Retry-After, so that a frozen node cannot take
+    // every thread (keep it below the server's thread count).
+    int max_waiting = 6;
   };
   PrinterFarm(Store& store, Options options) : store_(store), options_(std::move(options)) {}
 
@@ -41,8 +45,10 @@ class PrinterFarm {
 
  private:
   double now() const;
+  HttpResponse carry(const HttpRequest& request, const FarmPrinter& printer);
   Store& store_;
   Options options_;
+  std::atomic<int> waiting_{0};
 };
 
 class PrinterRequestExecutor {

@@ -6,6 +6,8 @@
 #  - pause, resume and cancel through Y reach x1;
 #  - X killed (-9) mid-print: Y lists x1 offline, the print interrupted, a request for it 503;
 #  - X restarted: the print resumed through Y finishes;
+#  - the farm-wide queue of x1's profile, fed through Y (which has no printer): X's printer takes
+#    each entry (by its periodic tick, then as each print ends), and executes them exactly;
 #  - X frozen: a request through Y is answered 504 naming X, and never runs later.
 #   printers_farm_e2e.sh SALIENTD MODELS_DIR WORKDIR PG_DIR
 set -euo pipefail
@@ -37,6 +39,7 @@ lease_seconds = 3
 [[printers]]
 id = "x1"
 kind = "sim"
+auto_start = true
 sim_args = "--advanced-ok --time-scale 0.05 --heat-time-scale 0 --log $PWD/sim-$1.log"
 TOML
 }
@@ -126,7 +129,44 @@ code=$(api -o resume.json -w '%{http_code}' -XPOST -d "{\"resume\": $print}" "$b
 [ "$code" = 202 ] || fail "resume through Y: $code $(cat resume.json)"
 wait_print finished
 
-# 5. X frozen: 504 naming X (after the request timeout); thawed, X never runs the request.
+# 5. The farm-wide queue through Y: accepted since a live node has the profile; X takes the
+# entries (its tick, then auto_start as each print ends), in order, exactly.
+code=$(api -o none.json -w '%{http_code}' -XPOST -d '{"file": "slow.gcode"}' "$base/api/v1/farm/no-such-profile/print")
+[ "$code" = 404 ] || fail "a profile no node has: $code $(cat none.json)"
+for n in 1 2 3; do
+  python3 -c "
+for i in range(150): print(f'G1 X{20 + i % 40 + $n} Y{30 + $n} F3000')" > f$n.gcode
+  api -o /dev/null -F "file=@f$n.gcode;filename=f$n.gcode" "$base/api/files/local"
+done
+before=$(last_print "['id']")
+for n in 1 2 3; do
+  code=$(api -o q$n.json -w '%{http_code}' -XPOST -d "{\"file\": \"f$n.gcode\"}" "$base/api/v1/farm/generic-i3/print")
+  [ "$code" = 202 ] && [ "$(field "['queued']" < q$n.json)" = True ] || fail "farm print $n through Y: $code $(cat q$n.json)"
+done
+api "$base/api/v1/farm/generic-i3/queue" > fq.json
+[ "$(eval_json "len(d['entries'])" < fq.json)" -ge 2 ] || fail "Y's view of the farm queue: $(cat fq.json)"
+farm_done() {
+  api "$base/api/v1/printers/x1/prints" | python3 -c "
+import json, sys
+ps = [p for p in json.load(sys.stdin)['prints'] if p['id'] > $before]
+sys.exit(0 if [p['file'] for p in sorted(ps, key=lambda p: p['id']) if p['state'] == 'finished'] == ['f1.gcode', 'f2.gcode', 'f3.gcode'] else 1)"
+}
+eventually 120 farm_done || fail "the farm queue's prints: $(api "$base/api/v1/printers/x1/prints")"
+[ "$(api "$base/api/v1/farm/generic-i3/queue" | eval_json "len(d['entries'])")" = 0 ] || fail "the farm queue is not empty"
+cat f1.gcode f2.gcode f3.gcode > farm.gcode
+tail_matches() {  # the simulator's last commands are exactly the farm queue's files
+  python3 - farm.gcode sim-2.log <<'PY'
+import sys
+want = [l.split(';')[0].strip() for l in open(sys.argv[1])]
+want = [l for l in want if l]
+host = ('M110', 'M115', 'M155', 'M105')
+got = [l.strip() for l in open(sys.argv[2]) if l.strip() and l.split()[0] not in host]
+sys.exit(0 if got[-len(want):] == want else 1)
+PY
+}
+eventually 60 tail_matches || fail "the simulator did not execute the farm queue's files exactly"
+
+# 6. X frozen: 504 naming X (after the request timeout); thawed, X never runs the request.
 kill -STOP "$xpid"
 code=$(api -o late.json -w '%{http_code}' -XPOST -d '{"commands": ["M117 too late"]}' "$base/api/v1/printers/x1/command")
 kill -CONT "$xpid"
