@@ -35,6 +35,7 @@
 #include "server/service/zeroconf.hpp"
 #include "server/store/backup.hpp"
 #include "server/store/data_dir_lock.hpp"
+#include "server/store/farm_store.hpp"
 #include "server/store/store.hpp"
 
 namespace {
@@ -152,7 +153,14 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   const NodeRoles& roles = config.node.roles;
   DaemonConfig printers_config = config;
   if (!roles.printers) printers_config.printers.clear();  // another node drives them
-  NodePresence* presence_hook = nullptr;                  // set before any printer starts
+  if (farm) {  // a printer id another live node holds: refused before anything of it is touched
+    std::vector<std::string> ids;
+    for (const PrinterConfig& p : printers_config.printers) ids.push_back(p.id);
+    const double now =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    FarmStore(store.db()).check_unclaimed(config.node.id, ids, now - config.node.lease_seconds);
+  }
+  NodePresence* presence_hook = nullptr;  // set before any printer starts
   PrinterEvents printer_events = push.hooks(printer_event_publisher(hub));
   printer_events.changed = [&presence_hook, publish = std::move(printer_events.changed)](const Printer& p,
                                                                                          bool progress) {

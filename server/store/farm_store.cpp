@@ -49,19 +49,9 @@ std::vector<FarmNode> FarmStore::nodes() {
 void FarmStore::register_printers(const std::string& node, const std::vector<Registration>& printers,
                                   double now, double live_after) {
   Database::Transaction t(db_);  // two nodes starting at once: one registers, the other sees it
-  for (const Registration& r : printers) {
-    auto q = db_.prepare(
-        "SELECT p.node FROM farm_printers p JOIN nodes n ON n.id = p.node "
-        "WHERE p.id = ? AND p.node <> ? AND n.heartbeat_at >= ?");
-    q.bind(1, std::string_view(r.id)).bind(2, std::string_view(node)).bind(3, live_after);
-    if (q.step()) {
-      const std::string other = q.text(0);
-      q.run();
-      throw StoreError("printer id '" + r.id + "' is already registered by node '" + other +
-                       "', which is live; node '" + node +
-                       "' cannot register it too (printer ids are unique in the farm)");
-    }
-  }
+  std::vector<std::string> ids;
+  for (const Registration& r : printers) ids.push_back(r.id);
+  check_unclaimed(node, ids, live_after);
   db_.prepare("DELETE FROM farm_printers WHERE node = ?").bind(1, std::string_view(node)).run();
   auto insert = db_.prepare(
       "INSERT INTO farm_printers (id, node, profile, status, updated_at) VALUES (?, ?, ?, ?, ?) "
@@ -75,6 +65,22 @@ void FarmStore::register_printers(const std::string& node, const std::vector<Reg
         .bind(5, now)
         .run();
   t.commit();
+}
+
+void FarmStore::check_unclaimed(const std::string& node, const std::vector<std::string>& printer_ids,
+                                double live_after) {
+  auto q = db_.prepare(
+      "SELECT p.node FROM farm_printers p JOIN nodes n ON n.id = p.node "
+      "WHERE p.id = ? AND p.node <> ? AND n.heartbeat_at >= ?");
+  for (const std::string& id : printer_ids) {
+    q.bind(1, std::string_view(id)).bind(2, std::string_view(node)).bind(3, live_after);
+    if (!q.step()) continue;
+    const std::string other = q.text(0);
+    q.run();
+    throw StoreError("printer id '" + id + "' is already registered by node '" + other +
+                     "', which is live; node '" + node +
+                     "' cannot register it too (printer ids are unique in the farm)");
+  }
 }
 
 void FarmStore::set_status(const std::string& id, const std::string& node, const std::string& status,

@@ -52,6 +52,9 @@ class FarmStore {
   };
   void register_printers(const std::string& node, const std::vector<Registration>& printers, double now,
                          double live_after);
+  // The same refusal, without registering (before a node touches anything of its printers).
+  void check_unclaimed(const std::string& node, const std::vector<std::string>& printer_ids,
+                       double live_after);
   void set_status(const std::string& id, const std::string& node, const std::string& status, double now);
   std::vector<FarmPrinter> printers();  // by id
   std::optional<FarmPrinter> printer(const std::string& id);

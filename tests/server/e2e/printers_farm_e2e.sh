@@ -3,11 +3,13 @@
 # HTTP) and node Y (roles api and slicer, no printer):
 #  - Y lists x1 with its node; a job sliced on Y prints on x1 through Y's API, and the
 #    simulator executed exactly its G-code;
-#  - pause, resume and cancel through Y reach x1;
+#  - pause, resume and cancel through Y reach x1; a node Z configured with x1 is refused at its
+#    start, naming both nodes, and touches nothing of x1;
 #  - X killed (-9) mid-print: Y lists x1 offline, the print interrupted, a request for it 503;
 #  - X restarted: the print resumed through Y finishes;
 #  - the farm-wide queue of x1's profile, fed through Y (which has no printer): X's printer takes
 #    each entry (by its periodic tick, then as each print ends), and executes them exactly;
+#  - a second printers node Z with its own printer z1: six farm prints through Y are each taken by one node, once, executed exactly;
 #  - X frozen: a request through Y is answered 504 naming X, and never runs later.
 #   printers_farm_e2e.sh SALIENTD MODELS_DIR WORKDIR PG_DIR
 set -euo pipefail
@@ -16,7 +18,15 @@ here=$(cd "$(dirname "$0")" && pwd)
 rm -rf "$work" && mkdir -p "$work" && cd "$work"
 . "$here/../../support/salientd.sh"
 xpid=
-trap '[ -n "$pid" ] && kill -9 "$pid" 2>/dev/null; [ -n "$xpid" ] && kill -CONT "$xpid" 2>/dev/null && kill -9 "$xpid" 2>/dev/null; true' EXIT
+zpid=
+cleanup() {  # whatever is still running
+  set +e
+  [ -n "$pid" ] && kill -9 "$pid" 2>/dev/null
+  [ -n "$xpid" ] && kill -CONT "$xpid" 2>/dev/null && kill -9 "$xpid" 2>/dev/null
+  [ -n "$zpid" ] && kill -9 "$zpid" 2>/dev/null
+  return 0
+}
+trap cleanup EXIT
 if [ ! -s "$pg_dir/url" ]; then
   echo "skipped: $(cat "$pg_dir/skip" 2>/dev/null || echo "no test PostgreSQL in $pg_dir")"
   exit 77
@@ -41,6 +51,20 @@ id = "x1"
 kind = "sim"
 auto_start = true
 sim_args = "--advanced-ok --time-scale 0.05 --heat-time-scale 0 --log $PWD/sim-$1.log"
+TOML
+}
+z_config() {  # z_config ID
+  cat > z.toml <<TOML
+[node]
+id = "Z"
+roles = ["printers"]
+lease_seconds = 3
+
+[[printers]]
+id = "$1"
+kind = "sim"
+auto_start = true
+sim_args = "--advanced-ok --time-scale 0.05 --heat-time-scale 0 --log $PWD/sim-z.log"
 TOML
 }
 start_x() {  # X serves no HTTP: it is up when it says so
@@ -86,7 +110,7 @@ wait_state "$id" done
 api -o job.gcode "$base/api/v1/jobs/$id/gcode"
 code=$(api -o print.json -w '%{http_code}' -XPOST -d "{\"job\": \"$id\"}" "$base/api/v1/printers/x1/print")
 [ "$code" = 202 ] || fail "print through Y: $code $(cat print.json)"
-[ "$(field "['node']" < print.json)" = X ] || [ "$(field "['id']" < print.json)" = x1 ] || fail "print answer: $(cat print.json)"
+[ "$(field "['id']" < print.json)" = x1 ] || fail "print answer: $(cat print.json)"
 wait_print finished
 [ "$(last_print "['job']")" = "$id" ] || fail "x1's last print is not job $id"
 same_commands job.gcode sim-1.log
@@ -102,6 +126,14 @@ code=$(api -o pause.json -w '%{http_code}' -XPOST "$base/api/v1/printers/x1/paus
 [ "$code" = 202 ] || fail "pause through Y: $code $(cat pause.json)"
 wait_x1 paused
 [ "$(last_print "['state']")" = paused ] || fail "the print is not paused in the store"
+# A node Z configured with x1 while X lives is refused at its start, naming both, and touches
+# nothing of x1 (its paused print stays paused).
+z_config x1
+if "$salientd" --data zdata --config z.toml --database "$database" 2> z-refused.log; then
+  fail "node Z started with x1, which live node X holds"
+fi
+grep -q "'x1'.*'X'.*'Z'" z-refused.log || fail "the refusal does not name x1, X and Z: $(cat z-refused.log)"
+[ "$(last_print "['state']")" = paused ] || fail "Z's refused start changed x1's print: $(last_print "['state']")"
 api -o /dev/null -XPOST "$base/api/v1/printers/x1/resume"
 wait_x1 printing
 code=$(api -o cancel.json -w '%{http_code}' -XPOST "$base/api/v1/printers/x1/cancel")
@@ -166,7 +198,58 @@ PY
 }
 eventually 60 tail_matches || fail "the simulator did not execute the farm queue's files exactly"
 
-# 6. X frozen: 504 naming X (after the request timeout); thawed, X never runs the request.
+# 6. Node Z: a printer id X holds is refused; with z1, Z and X share the farm queue, each entry once.
+z_config z1
+"$salientd" --data zdata --config z.toml --database "$database" 2>>z.log &
+zpid=$!
+eventually 60 grep -q "serving no HTTP" z.log || fail "node Z did not start"
+for _ in $(seq 300); do [ "$(api "$base/api/v1/printers/z1" | field "['state']")" = operational ] && break; sleep 0.1; done
+first_x=$(last_print "['id']")
+for n in 1 2 3 4 5 6; do
+  python3 -c "
+for i in range(300): print(f'G1 X{20 + i % 40 + $n} Y{40 + $n} F3000')" > g$n.gcode
+  api -o /dev/null -F "file=@g$n.gcode;filename=g$n.gcode" "$base/api/files/local"
+done
+for n in 1 2 3 4 5 6; do
+  code=$(api -o g$n.json -w '%{http_code}' -XPOST -d "{\"file\": \"g$n.gcode\"}" "$base/api/v1/farm/generic-i3/print")
+  [ "$code" = 202 ] || fail "farm print g$n through Y: $code $(cat g$n.json)"
+done
+shared_done() {  # every g file printed once, on x1 or z1; writes each printer's files in order
+  api "$base/api/v1/printers/x1/prints" > px.json
+  api "$base/api/v1/printers/z1/prints" > pz.json
+  python3 - "$first_x" <<'PY'
+import json, sys
+files = {}
+for printer, name, after in (("x1", "px.json", int(sys.argv[1])), ("z1", "pz.json", 0)):
+    ps = sorted((p for p in json.load(open(name))["prints"] if p["id"] > after), key=lambda p: p["id"])
+    files[printer] = [p["file"] for p in ps if p["state"] == "finished"]
+    open(f"files-{printer}.txt", "w").write("\n".join(files[printer]) + "\n")
+got = sorted(files["x1"] + files["z1"])
+print(files)
+sys.exit(0 if got == [f"g{n}.gcode" for n in range(1, 7)] else 1)
+PY
+}
+eventually 180 shared_done || fail "the shared farm queue's prints"
+[ -s files-z1.txt ] && [ "$(wc -w < files-z1.txt)" -ge 1 ] || fail "z1 took nothing from the farm queue"
+for printer in x1 z1; do
+  : > want-$printer.gcode
+  for f in $(cat files-$printer.txt); do cat "$f" >> want-$printer.gcode; done
+done
+tail_of() {  # tail_of GCODE LOG: the simulator's last commands are exactly GCODE's
+  python3 - "$1" "$2" <<'PY'
+import sys
+want = [l.split(';')[0].strip() for l in open(sys.argv[1])]
+want = [l for l in want if l]
+host = ('M110', 'M115', 'M155', 'M105')
+got = [l.strip() for l in open(sys.argv[2]) if l.strip() and l.split()[0] not in host]
+sys.exit(0 if not want or got[-len(want):] == want else 1)
+PY
+}
+eventually 60 tail_of want-x1.gcode sim-2.log || fail "x1 did not execute its farm prints exactly"
+eventually 60 tail_of want-z1.gcode sim-z.log || fail "z1 did not execute its farm prints exactly"
+kill -TERM "$zpid"; wait "$zpid" || true; zpid=
+
+# 7. X frozen: 504 naming X (after the request timeout); thawed, X never runs the request.
 kill -STOP "$xpid"
 code=$(api -o late.json -w '%{http_code}' -XPOST -d '{"commands": ["M117 too late"]}' "$base/api/v1/printers/x1/command")
 kill -CONT "$xpid"
@@ -180,4 +263,4 @@ eventually 60 grep -q "M117 marker" sim-2.log || fail "the marker never reached 
 stop
 kill -TERM "$xpid"; wait "$xpid" || true; xpid=
 psql -X -q "$cluster/postgres" -c "DROP DATABASE $name"
-echo "PASS: x1 on X listed, printed exactly, paused, resumed, cancelled through Y; offline and interrupted when X died; resumed through Y after its restart; 504 for a frozen X, never run late"
+echo "PASS: x1 on X listed, printed exactly, paused, resumed, cancelled through Y; Z refused x1; the farm queue shared by X and Z, each entry once; offline and interrupted when X died; resumed through Y after its restart; 504 for a frozen X, never run late"
