@@ -182,6 +182,9 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   PrinterFarm printer_farm(
       store, {config.node.id, config.node.lease_seconds, 10, config.max_json_bytes, http.threads - 2});
   if (farm)
+    printers.set_farm_printers(
+        [&printer_farm](const std::string& id) { return printer_farm.other(id).has_value(); });
+  if (farm)
     printers.set_farm_profiles(
         [&printer_farm](const std::string& profile) { return printer_farm.profile_live(profile); });
   hub.set_snapshot(event_snapshots(store, printers));

@@ -166,6 +166,9 @@ HttpResponse PrinterRequestExecutor::run(const Router& router, const PrinterRequ
   request.target = r.target;
   if (!split_target(r.target, request.path, request.query))
     return error_response(400, "bad_request", "malformed target");
+  // Only what an API node forwards: a printer's own routes.
+  if (request.path.rfind("/api/v1/printers/", 0) != 0)
+    return error_response(400, "bad_request", "only /api/v1/printers/{id}/… is run for another node");
   request.body = r.body;
   if (!r.body.empty()) request.headers["content-type"] = "application/json";
   request.caller = Principal{r.user, role_from(r.role).value_or(Role::viewer), 0};

@@ -130,6 +130,30 @@ PrintSubmission PrinterService::submit_to_profile(const std::string& profile, co
   return out;
 }
 
+bool PrinterService::has_profile(const std::string& profile) {
+  for (const auto& p : printers_)
+    if (p->config().profile == profile) return true;
+  return profile_elsewhere_ && profile_elsewhere_(profile);
+}
+
+bool PrinterService::has_printer(const std::string& id) {
+  return find(id) || (printer_elsewhere_ && printer_elsewhere_(id));
+}
+
+PrintSubmission PrinterService::submit_job_to(const std::string& printer_id, const std::string& job_id,
+                                              bool when_sliced) {
+  if (Printer* here = find(printer_id)) return submit_job(*here, job_id, when_sliced);
+  if (!printer_elsewhere_ || !printer_elsewhere_(printer_id))
+    throw NotFound("no printer '" + printer_id + "'");
+  std::lock_guard lock(queue_mutex_);
+  check_printable("job", job_id, when_sliced);
+  PrintSubmission out;
+  out.queued = QueueStore(store_.db()).add(printer_id, "job", job_id, now_seconds());
+  out.queued->slicing = readiness("job", job_id) == Readiness::slicing;
+  queue_changed(printer_id);
+  return out;
+}
+
 std::vector<QueueEntry> PrinterService::queue(const Printer& printer) {
   return entries(printer.id());
 }

@@ -89,6 +89,16 @@ class PrinterService {
   void set_farm_profiles(std::function<bool(const std::string&)> elsewhere) {
     profile_elsewhere_ = std::move(elsewhere);
   }
+  // In a farm: whether the printer is another node's (whose queue is then fed here, and started
+  // there by its farm_tick).
+  void set_farm_printers(std::function<bool(const std::string&)> elsewhere) {
+    printer_elsewhere_ = std::move(elsewhere);
+  }
+  bool has_profile(const std::string& profile);  // a printer here, or on a live node, has it
+  bool has_printer(const std::string& id);       // here, or another node's
+  // submit_job on this node's printer, or, for another node's, the job waits in that printer's
+  // queue (the node starts it when it is sliced and the printer is free). NotFound, Conflict.
+  PrintSubmission submit_job_to(const std::string& printer_id, const std::string& job_id, bool when_sliced);
   // In a farm, about once a second: entries added on other nodes, and entries waiting for a job
   // that finished elsewhere, start on this node's idle printers as they would have here.
   void farm_tick();
@@ -125,7 +135,7 @@ class PrinterService {
 
   Store& store_;
   std::function<void(const std::string&, const std::vector<QueueEntry>&)> queue_changed_;
-  std::function<bool(const std::string&)> profile_elsewhere_;
+  std::function<bool(const std::string&)> profile_elsewhere_, printer_elsewhere_;
   // Serializes queue decisions (check, then start or queue). Recursive: starting a print
   // notifies, and that notification may come back here on the same thread.
   std::recursive_mutex queue_mutex_;

@@ -9,6 +9,7 @@
 #  - X restarted: the print resumed through Y finishes;
 #  - the farm-wide queue of x1's profile, fed through Y (which has no printer): X's printer takes
 #    each entry (by its periodic tick, then as each print ends), and executes them exactly;
+#  - jobs submitted on Y to print once sliced (on x1, on the profile) print on X when done;
 #  - a second printers node Z with its own printer z1: six farm prints through Y are each taken by one node, once, executed exactly;
 #  - X frozen: a request through Y is answered 504 naming X, and never runs later.
 #   printers_farm_e2e.sh SALIENTD MODELS_DIR WORKDIR PG_DIR
@@ -197,6 +198,17 @@ sys.exit(0 if got[-len(want):] == want else 1)
 PY
 }
 eventually 60 tail_matches || fail "the simulator did not execute the farm queue's files exactly"
+# Jobs submitted on Y to print once sliced, on x1 by name and on the profile: they wait in the
+# queues while Y slices them, then X starts them (its tick: the job finished on another node).
+for target in x1 '{"profile": "generic-i3"}'; do
+  api -o chained.json -F "file=@$models/suzanne.obj" -F 'settings={"height": 4}' -F "print=$target" "$base/api/v1/jobs"
+  [ "$(field "['print']['queued']" < chained.json)" = True ] || fail "a job to print on $target once sliced: $(cat chained.json)"
+  chained=$(field "['id']" < chained.json)
+  wait_state "$chained" done
+  for _ in $(seq 300); do [ "$(last_print "['job']")" = "$chained" ] && break; sleep 0.1; done
+  wait_print finished
+  [ "$(last_print "['job']")" = "$chained" ] || fail "job $chained (for $target) was not printed on x1"
+done
 
 # 6. Node Z: a printer id X holds is refused; with z1, Z and X share the farm queue, each entry once.
 z_config z1
