@@ -7,30 +7,37 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <mutex>
 #include <thread>
 
 #include "core/common/input_error.hpp"
 #include "server/api/api_key.hpp"
 #include "server/api/app_key_requests.hpp"
 #include "server/api/octoprint_json.hpp"
+#include "server/api/printer_forwarding.hpp"
+#include "server/api/printer_json.hpp"
 #include "server/api/push_hub.hpp"
 #include "server/api/routes.hpp"
 #include "server/api/sessions.hpp"
 #include "server/build_info.hpp"
+#include "server/common/json_text.hpp"
 #include "server/config/daemon_config.hpp"
 #include "server/events/event_hub.hpp"
 #include "server/events/event_relay.hpp"
 #include "server/http/http_server.hpp"
 #include "server/jobs/job_service.hpp"
 #include "server/metrics/metrics.hpp"
+#include "server/printers/node_presence.hpp"
 #include "server/printers/printer_service.hpp"
 #include "server/service/systemd_notify.hpp"
 #include "server/service/zeroconf.hpp"
 #include "server/store/backup.hpp"
 #include "server/store/data_dir_lock.hpp"
+#include "server/store/farm_store.hpp"
 #include "server/store/store.hpp"
 
 namespace {
@@ -162,8 +169,46 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   Sessions sessions;
   PushHub push(sessions, store, octo,
                log_line);  // OctoPrint's push socket: sees the printers through their hooks
-  PrinterService printers(config, store, push.hooks(printer_event_publisher(hub)));
+  // A farm (several nodes on one PostgreSQL): this node's printers are registered for the others
+  // (NodePresence), and requests for theirs are carried to them (PrinterFarm, and the executor).
+  const bool farm = store.database_url().dialect == Dialect::postgresql;
+  const NodeRoles& roles = config.node.roles;
+  DaemonConfig printers_config = config;
+  if (!roles.printers) printers_config.printers.clear();  // another node drives them
+  if (farm) {  // a printer id another live node holds: refused before anything of it is touched
+    std::vector<std::string> ids;
+    for (const PrinterConfig& p : printers_config.printers) ids.push_back(p.id);
+    const double now =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    FarmStore(store.db()).check_unclaimed(config.node.id, ids, now - config.node.lease_seconds);
+  }
+  NodePresence* presence_hook = nullptr;  // set before any printer starts
+  PrinterEvents printer_events = push.hooks(printer_event_publisher(hub));
+  printer_events.changed = [&presence_hook, publish = std::move(printer_events.changed)](const Printer& p,
+                                                                                         bool progress) {
+    if (publish) publish(p, progress);
+    if (presence_hook) presence_hook->changed(p);
+  };
+  PrinterService printers(printers_config, store, std::move(printer_events));
   push.attach(printers);
+  std::string role_names;
+  for (const auto& [on, name] :
+       {std::pair{roles.api, "api"}, {roles.slicer, "slicer"}, {roles.printers, "printers"}})
+    if (on) role_names += (role_names.empty() ? "" : ",") + std::string(name);
+  NodePresence presence(
+      store, {config.node.id, role_names, std::string(version()), config.node.lease_seconds}, &printers,
+      [](const Printer& p) { return json_text(printer_status_json(p.status())); });
+  // A request for another node's printer holds an HTTP thread while it waits for the answer: a
+  // farm's API node gets more of them, and at most all but two wait at once.
+  if (farm) http.threads = std::max(http.threads, 8);
+  PrinterFarm printer_farm(
+      store, {config.node.id, config.node.lease_seconds, 10, config.max_json_bytes, http.threads - 2});
+  if (farm)
+    printers.set_farm_printers(
+        [&printer_farm](const std::string& id) { return printer_farm.other(id).has_value(); });
+  if (farm)
+    printers.set_farm_profiles(
+        [&printer_farm](const std::string& profile) { return printer_farm.profile_live(profile); });
   hub.set_snapshot(event_snapshots(store, printers));
   // On PostgreSQL the events go through the database to every node's subscribers (and this one's).
   // Declared before the printers, which publish into it until they are gone; stopped before them,
@@ -198,7 +243,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
       });
   add_system_routes(router, store, config.node, log_line);
   add_job_routes(router, store, jobs, printers, config);
-  add_printer_routes(router, printers, store, config);
+  add_printer_routes(router, printers, store, config, farm ? &printer_farm : nullptr);
   add_octoprint_routes(router, store, printers, config, octo, sessions, hub);
   AppKeyRequests app_key_requests;
   add_auth_routes(router, keys, sessions, app_key_requests);
@@ -209,16 +254,33 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   http.websockets["/api/v1/events"] = events_endpoint(hub, keys);
   http.websockets["/sockjs/websocket"] = push.acceptor();
   http.websockets["/sockjs/*"] = push.sockjs_acceptor();
-  HttpServer server(http, router);
-  const unsigned short port = server.start();
+  PrinterRequestExecutor executor(store, router, config.node.id);
+  if (farm) {
+    // Before any printer starts: a printer id another live node holds stops this one here.
+    presence.start([&printers] { printers.farm_tick(); });
+    presence_hook = &presence;
+    executor.start();
+  }
+  // A node without the api role builds the router (the executor runs requests through it) but
+  // serves no HTTP.
+  std::unique_ptr<HttpServer> server;
+  unsigned short port = 0;
+  if (roles.api) {
+    server = std::make_unique<HttpServer>(http, router);
+    port = server->start();
+  }
   jobs.start();
   printers.start();
-  log_line("salientd " + std::string(version()) + " listening on http://" + http.address + ":" +
-           std::to_string(port) + " data=" + config.data_dir +
-           " database=" + store.database_url().redacted());
-  notify_ready("listening on " + http.address + ":" + std::to_string(port));
+  const std::string where = server ? "listening on http://" + http.address + ":" + std::to_string(port)
+                                   : "serving no HTTP (no api role)";
+  log_line("salientd " + std::string(version()) + " " + where + " node=" + config.node.id + " roles=" +
+           role_names + " data=" + config.data_dir + " database=" + store.database_url().redacted());
+  notify_ready(server ? "listening on " + http.address + ":" + std::to_string(port) : "running");
   std::unique_ptr<ZeroconfAnnouncer> zeroconf;
-  if (config.zeroconf) zeroconf = announce_octoprint(config.zeroconf_name, port, log_line);
+  if (config.zeroconf && server) zeroconf = announce_octoprint(config.zeroconf_name, port, log_line);
+  std::mutex stop_mutex;
+  std::condition_variable stop_cv;
+  bool stop_asked = false;
   std::atomic<bool> asked{false};
   std::thread watcher([&] {
     g_watcher = pthread_self();
@@ -229,15 +291,25 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     asked = true;
     notify_stopping();
     log_line(std::string("stopping (") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + ")");
-    server.stop();
+    if (server) server->stop();
+    std::lock_guard stop_lock(stop_mutex);
+    stop_asked = true;
+    stop_cv.notify_all();
   });
-  server.run();
+  if (server) {
+    server->run();
+  } else {
+    std::unique_lock stop_lock(stop_mutex);
+    stop_cv.wait(stop_lock, [&] { return stop_asked; });
+  }
   // run() returns after stop(), or (a bug) when nothing is left to serve: never exit silently.
   if (!asked) log_line("error: the HTTP server stopped serving without being asked to; stopping");
   jobs.stop(std::chrono::milliseconds(0));  // running jobs are told to stop, not waited for yet
   push.stop();                              // its thread reads the printers: it ends before they do
-  printers.stop();                          // a running print is interrupted (heaters off) and can be resumed
-  if (relay) relay->stop();                 // sends what the printers said last; no more calls into them
+  executor.stop();
+  presence.stop();
+  printers.stop();           // a running print is interrupted (heaters off) and can be resumed
+  if (relay) relay->stop();  // sends what the printers said last; no more calls into them
   if (!jobs.stop(std::chrono::seconds(1))) {
     // A job inside one long solve has not seen its cancel yet. Its row says "running", so it is
     // re-queued at the next start, as after a crash: nothing to wait for.

@@ -67,10 +67,7 @@ PrintTarget print_target(const std::string& text, PrinterService& printers) {
     t.printer = text;
   }
   const std::string shown = (t.printer.empty() ? t.profile : t.printer).substr(0, 64);
-  for (const auto& p : printers.all())
-    if ((!t.printer.empty() && p->id() == t.printer) ||
-        (!t.profile.empty() && p->config().profile == t.profile))
-      return t;
+  if (t.printer.empty() ? printers.has_profile(t.profile) : printers.has_printer(t.printer)) return t;
   if (!t.printer.empty()) throw ApiError(422, "unknown_printer", "'print': no printer '" + shown + "'");
   throw ApiError(422, "unknown_profile", "'print': no printer has the profile '" + shown + "'");
 }
@@ -79,7 +76,7 @@ PrintTarget print_target(const std::string& text, PrinterService& printers) {
 json chain_print(PrinterService& printers, const PrintTarget& t, const Job& job) {
   try {
     const PrintSubmission s = t.printer.empty() ? printers.submit_to_profile(t.profile, "job", job.id, true)
-                                                : printers.submit_job(printers.get(t.printer), job.id, true);
+                                                : printers.submit_job_to(t.printer, job.id, true);
     if (s.queued)
       return {{"queued", true},
               {t.printer.empty() ? "profile" : "printer", t.printer.empty() ? t.profile : t.printer},

@@ -24,8 +24,11 @@ void add_system_routes(Router& router, Store& store, const NodeConfig& node,
 void add_job_routes(Router& router, Store& store, JobService& jobs, PrinterService& printers,
                     const DaemonConfig& config);
 // /api/v1/printers…: status, connect/disconnect, print, pause/resume/cancel/emergency-stop, command,
-// queues; /api/v1/farm/{profile}/…: a profile's farm-wide queue.
-void add_printer_routes(Router& router, PrinterService& printers, Store& store, const DaemonConfig& config);
+// queues; /api/v1/farm/{profile}/…: a profile's farm-wide queue. With a farm (several nodes on
+// one PostgreSQL), other nodes' printers are listed too and requests for them carried to their node.
+class PrinterFarm;
+void add_printer_routes(Router& router, PrinterService& printers, Store& store, const DaemonConfig& config,
+                        PrinterFarm* farm = nullptr);
 struct OctoState;
 class Sessions;
 // OctoPrint's API as its clients use it: /api/files/local, /api/job, /api/printer, /api/settings,

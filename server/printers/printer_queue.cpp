@@ -130,6 +130,30 @@ PrintSubmission PrinterService::submit_to_profile(const std::string& profile, co
   return out;
 }
 
+bool PrinterService::has_profile(const std::string& profile) {
+  for (const auto& p : printers_)
+    if (p->config().profile == profile) return true;
+  return profile_elsewhere_ && profile_elsewhere_(profile);
+}
+
+bool PrinterService::has_printer(const std::string& id) {
+  return find(id) || (printer_elsewhere_ && printer_elsewhere_(id));
+}
+
+PrintSubmission PrinterService::submit_job_to(const std::string& printer_id, const std::string& job_id,
+                                              bool when_sliced) {
+  if (Printer* here = find(printer_id)) return submit_job(*here, job_id, when_sliced);
+  if (!printer_elsewhere_ || !printer_elsewhere_(printer_id))
+    throw NotFound("no printer '" + printer_id + "'");
+  std::lock_guard lock(queue_mutex_);
+  check_printable("job", job_id, when_sliced);
+  PrintSubmission out;
+  out.queued = QueueStore(store_.db()).add(printer_id, "job", job_id, now_seconds());
+  out.queued->slicing = readiness("job", job_id) == Readiness::slicing;
+  queue_changed(printer_id);
+  return out;
+}
+
 std::vector<QueueEntry> PrinterService::queue(const Printer& printer) {
   return entries(printer.id());
 }
@@ -137,34 +161,53 @@ std::vector<QueueEntry> PrinterService::queue(const Printer& printer) {
 std::vector<QueueEntry> PrinterService::profile_queue(const std::string& profile) {
   for (const auto& p : printers_)
     if (p->config().profile == profile) return entries(profile_key(profile));
+  if (profile_elsewhere_ && profile_elsewhere_(profile)) return entries(profile_key(profile));
   throw NotFound("no printer has the profile '" + profile + "'");
 }
 
 std::optional<std::pair<long long, QueueEntry>> PrinterService::start_first_ready(Printer& printer,
                                                                                   const std::string& key) {
-  QueueStore queue(store_.db());
-  for (const QueueEntry& e : queue.list(key)) {
+  for (const QueueEntry& e : QueueStore(store_.db()).list(key)) {
     const Readiness r = readiness(e.kind, e.ref);
     if (r == Readiness::slicing) continue;  // passed over until it is sliced
+    if (!take(key, e)) continue;            // another node started it
     long long print = 0;
     try {
       if (r == Readiness::gone) check_printable(e.kind, e.ref, false);  // throws: why it is gone
       print = start_entry(printer, e.kind, e.ref);
     } catch (const Conflict& error) {
-      if (error.code() == "printer_busy") throw;  // the entry stays in line
-      queue.remove(key, e.id);
-      queue_changed(key);
+      if (error.code() == "printer_busy") put_back(key, e);  // the entry stays in line
       throw;
-    } catch (const DomainError&) {  // its job or file is gone, or cannot be printed
-      queue.remove(key, e.id);
-      queue_changed(key);
-      throw;
-    }
-    queue.remove(key, e.id);
-    queue_changed(key);
+    }  // any other error (its job or file is gone, or cannot be printed): it stays out
     return std::pair{print, e};
   }
   return std::nullopt;
+}
+
+bool PrinterService::take(const std::string& key, const QueueEntry& e) {
+  if (!QueueStore(store_.db()).remove(key, e.id)) return false;  // one DELETE: one taker
+  queue_changed(key);
+  return true;
+}
+
+void PrinterService::put_back(const std::string& key, const QueueEntry& e) {
+  QueueStore queue(store_.db());
+  const QueueEntry again = queue.add(key, e.kind, e.ref, e.created_at);
+  queue.move(key, again.id, e.position);
+  queue_changed(key);
+}
+
+void PrinterService::farm_tick() {
+  std::lock_guard lock(queue_mutex_);
+  std::set<std::string> profiles, jobs;
+  for (const auto& p : printers_) {
+    profiles.insert(p->config().profile);
+    for (const QueueEntry& e : QueueStore(store_.db()).list(p->id()))
+      if (e.kind == "job") jobs.insert(e.ref);
+  }
+  for (const std::string& profile : profiles) dispatch_profile(profile);
+  for (const std::string& job : jobs)
+    if (readiness("job", job) != Readiness::slicing) job_finished(job);
 }
 
 std::pair<long long, QueueEntry> PrinterService::next(Printer& printer) {

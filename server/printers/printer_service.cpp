@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/common/domain_error.hpp"
+#include "server/store/farm_store.hpp"
 #include "server/store/job_store.hpp"
 #include "server/store/print_store.hpp"
 
@@ -14,7 +15,13 @@ PrinterService::PrinterService(const DaemonConfig& config, Store& store, Printer
   // Prints a previous run left unfinished: interrupted, before any printer reads its last print.
   const double now =
       std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  PrintStore(store_.db()).mark_interrupted(now);
+  if (store_.database_url().dialect == Dialect::postgresql) {
+    std::vector<std::string> own;
+    for (const PrinterConfig& p : config.printers) own.push_back(p.id);
+    FarmStore(store_.db()).interrupt_own(own, now);
+  } else {
+    PrintStore(store_.db()).mark_interrupted(now);
+  }
   for (const PrinterConfig& p : config.printers) temperatures_[p.id] = std::make_unique<TemperatureHistory>();
   // Every change a printer reports (its temperatures among them) is a chance to sample them.
   events.changed = [this, publish = std::move(events.changed)](const Printer& printer, bool progress) {
@@ -55,6 +62,12 @@ Printer& PrinterService::get(const std::string& id) {
   for (auto& p : printers_)
     if (p->id() == id) return *p;
   throw NotFound("no printer '" + id + "'");
+}
+
+Printer* PrinterService::find(const std::string& id) {
+  for (auto& p : printers_)
+    if (p->id() == id) return p.get();
+  return nullptr;
 }
 
 long long PrinterService::print_job(Printer& printer, const std::string& job_id) {

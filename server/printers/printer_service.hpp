@@ -38,14 +38,16 @@ struct PrintSubmission {
 
 class PrinterService {
  public:
-  // Marks prints a previous run left unfinished as interrupted.
+  // Marks prints a previous run left unfinished as interrupted: all of them on SQLite (one node),
+  // only those of its own printers on PostgreSQL (other nodes of the farm may be printing).
   PrinterService(const DaemonConfig& config, Store& store, PrinterEvents events = {});
   ~PrinterService();
 
   void start();  // every printer's thread (autoconnect ones connect)
   void stop();
 
-  Printer& get(const std::string& id);  // NotFound
+  Printer& get(const std::string& id);   // NotFound
+  Printer* find(const std::string& id);  // null when not here
   const std::vector<std::unique_ptr<Printer>>& all() const { return printers_; }
   Printer* first() { return printers_.empty() ? nullptr : printers_.front().get(); }
 
@@ -78,7 +80,28 @@ class PrinterService {
   void remove_from_profile(const std::string& profile, long long entry);    // NotFound
   // A job ended (done, failed or cancelled): entries waiting for it start where a printer is idle
   // and nothing ready is ahead of them, or are dropped if it failed.
+  // Safe for a job finished on another node (only this node's printers start, and an entry is
+  // taken out of its queue before it starts: two nodes never start the same one).
   void job_finished(const std::string& job_id);
+
+  // In a farm: whether a live node (another one) has a printer of the profile, so that a
+  // profile's farm-wide queue exists here without a printer of it.
+  void set_farm_profiles(std::function<bool(const std::string&)> elsewhere) {
+    profile_elsewhere_ = std::move(elsewhere);
+  }
+  // In a farm: whether the printer is another node's (whose queue is then fed here, and started
+  // there by its farm_tick).
+  void set_farm_printers(std::function<bool(const std::string&)> elsewhere) {
+    printer_elsewhere_ = std::move(elsewhere);
+  }
+  bool has_profile(const std::string& profile);  // a printer here, or on a live node, has it
+  bool has_printer(const std::string& id);       // here, or another node's
+  // submit_job on this node's printer, or, for another node's, the job waits in that printer's
+  // queue (the node starts it when it is sliced and the printer is free). NotFound, Conflict.
+  PrintSubmission submit_job_to(const std::string& printer_id, const std::string& job_id, bool when_sliced);
+  // In a farm, about once a second: entries added on other nodes, and entries waiting for a job
+  // that finished elsewhere, start on this node's idle printers as they would have here.
+  void farm_tick();
 
   // The printer's temperatures, sampled whenever it reports (once a second at most). NotFound.
   const TemperatureHistory& temperatures(const std::string& id) const;
@@ -105,8 +128,14 @@ class PrinterService {
   void queue_changed(const std::string& key);
   void queue_changed(const Printer& printer) { queue_changed(printer.id()); }
 
+  // Takes the entry out of its queue before it starts (false: another node or request took it);
+  // an entry whose printer turned out busy goes back to its place.
+  bool take(const std::string& key, const QueueEntry& e);
+  void put_back(const std::string& key, const QueueEntry& e);
+
   Store& store_;
   std::function<void(const std::string&, const std::vector<QueueEntry>&)> queue_changed_;
+  std::function<bool(const std::string&)> profile_elsewhere_, printer_elsewhere_;
   // Serializes queue decisions (check, then start or queue). Recursive: starting a print
   // notifies, and that notification may come back here on the same thread.
   std::recursive_mutex queue_mutex_;

@@ -117,8 +117,43 @@ ALTER TABLE jobs ADD COLUMN cancel_requested {INT} NOT NULL DEFAULT 0;
 ALTER TABLE jobs ADD COLUMN requeues TEXT NOT NULL DEFAULT '[]';
 CREATE INDEX jobs_by_node ON jobs (node, state);
 )sql",
-    // 8: placeholder for the printers-across-nodes migration (s13-printers), replaced when merged.
-    "SELECT 1;",
+    // 8: printers across nodes (a farm on one PostgreSQL): the nodes and their liveness (a node
+    // renews heartbeat_at; one older than its lease is dead), every node's printers with the
+    // status GET /api/v1/printers/{id} gives, and requests for a printer carried to the node that
+    // owns it (state: pending → taken → answered, or cancelled when the caller gave up).
+    R"sql(
+CREATE TABLE nodes (
+  id TEXT PRIMARY KEY,
+  roles TEXT NOT NULL,
+  version TEXT,
+  started_at {REAL},
+  heartbeat_at {REAL} NOT NULL
+);
+CREATE TABLE farm_printers (
+  id TEXT PRIMARY KEY,
+  node TEXT NOT NULL,
+  profile TEXT NOT NULL,
+  status TEXT NOT NULL,
+  updated_at {REAL} NOT NULL
+);
+CREATE INDEX farm_printers_by_node ON farm_printers (node);
+CREATE TABLE printer_requests (
+  id {ID},
+  node TEXT NOT NULL,
+  state TEXT NOT NULL CHECK (state IN ('pending', 'taken', 'answered', 'cancelled')),
+  method TEXT NOT NULL,
+  target TEXT NOT NULL,
+  body TEXT NOT NULL,
+  caller TEXT NOT NULL,
+  role TEXT NOT NULL,
+  status {INT},
+  headers TEXT,
+  response TEXT,
+  created_at {REAL} NOT NULL,
+  answered_at {REAL}
+);
+CREATE INDEX printer_requests_by_node ON printer_requests (node, state, id);
+)sql",
     // 9: events too large for a NOTIFY payload (8000 bytes), which then carries the row's id
     // (server/events/event_relay). Rows are read once by each node and swept after minutes.
     R"sql(

@@ -150,7 +150,8 @@ TEST_CASE("a hex key of a data directory from before users (schema 3) is the adm
         "DROP INDEX jobs_by_node; ALTER TABLE jobs DROP COLUMN node; "
         "ALTER TABLE jobs DROP COLUMN lease_until; ALTER TABLE jobs DROP COLUMN cancel_requested; "
         "ALTER TABLE jobs DROP COLUMN requeues; "
-        "DROP TABLE event_payloads; PRAGMA user_version = 3;");
+        "DROP TABLE event_payloads; DROP TABLE nodes; DROP TABLE farm_printers; DROP TABLE printer_requests; "
+        "PRAGMA user_version = 3;");
     old.prepare("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', 1)")
         .bind(1, std::string_view(sha256_hex(hex)))
         .run();
