@@ -7,11 +7,9 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
-#include <mutex>
 #include <thread>
 
 #include "core/common/input_error.hpp"
@@ -262,25 +260,26 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     executor.start();
   }
   // A node without the api role builds the router (the executor runs requests through it) but
-  // serves no HTTP.
-  std::unique_ptr<HttpServer> server;
-  unsigned short port = 0;
-  if (roles.api) {
-    server = std::make_unique<HttpServer>(http, router);
-    port = server->start();
+  // serves only what operations need of every node: /healthz and /metrics (keyed, as everywhere).
+  Router ops;
+  HttpServerOptions ops_http = http;
+  if (!roles.api) {
+    ops.set_authenticator([&keys](const HttpRequest& r) { return keys.authenticate(r); });
+    add_system_routes(ops, store, config.node, log_line);
+    add_metrics_route(ops, metrics, store, printers, hub, jobs.saliency_cache(), config.node);
+    ops_http.websockets.clear();
   }
+  auto server = std::make_unique<HttpServer>(roles.api ? http : ops_http, roles.api ? router : ops);
+  const unsigned short port = server->start();
   jobs.start();
   printers.start();
-  const std::string where = server ? "listening on http://" + http.address + ":" + std::to_string(port)
-                                   : "serving no HTTP (no api role)";
+  const std::string where = "listening on http://" + http.address + ":" + std::to_string(port) +
+                            (roles.api ? "" : " (/healthz and /metrics only: no api role)");
   log_line("salientd " + std::string(version()) + " " + where + " node=" + config.node.id + " roles=" +
            role_names + " data=" + config.data_dir + " database=" + store.database_url().redacted());
-  notify_ready(server ? "listening on " + http.address + ":" + std::to_string(port) : "running");
+  notify_ready("listening on " + http.address + ":" + std::to_string(port));
   std::unique_ptr<ZeroconfAnnouncer> zeroconf;
-  if (config.zeroconf && server) zeroconf = announce_octoprint(config.zeroconf_name, port, log_line);
-  std::mutex stop_mutex;
-  std::condition_variable stop_cv;
-  bool stop_asked = false;
+  if (config.zeroconf && roles.api) zeroconf = announce_octoprint(config.zeroconf_name, port, log_line);
   std::atomic<bool> asked{false};
   std::thread watcher([&] {
     g_watcher = pthread_self();
@@ -291,17 +290,9 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     asked = true;
     notify_stopping();
     log_line(std::string("stopping (") + (sig == SIGINT ? "SIGINT" : "SIGTERM") + ")");
-    if (server) server->stop();
-    std::lock_guard stop_lock(stop_mutex);
-    stop_asked = true;
-    stop_cv.notify_all();
+    server->stop();
   });
-  if (server) {
-    server->run();
-  } else {
-    std::unique_lock stop_lock(stop_mutex);
-    stop_cv.wait(stop_lock, [&] { return stop_asked; });
-  }
+  server->run();
   // run() returns after stop(), or (a bug) when nothing is left to serve: never exit silently.
   if (!asked) log_line("error: the HTTP server stopped serving without being asked to; stopping");
   jobs.stop(std::chrono::milliseconds(0));  // running jobs are told to stop, not waited for yet
