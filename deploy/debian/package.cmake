@@ -23,6 +23,8 @@ foreach(page salientd salient salient-sim)
   install(FILES "${doc_build}/${page}.1.gz" DESTINATION share/man/man1)
 endforeach()
 install(FILES "${deb_dir}/copyright" "${PROJECT_SOURCE_DIR}/README.md" DESTINATION share/doc/salient)
+install(FILES "${PROJECT_SOURCE_DIR}/deploy/farm/api.toml" "${PROJECT_SOURCE_DIR}/deploy/farm/printers.toml"
+        DESTINATION share/doc/salient/examples/farm)
 # OPTIONAL: a plain `cmake --install` (no cpack) has no changelog to install.
 install(FILES "${doc_build}/changelog.gz" DESTINATION share/doc/salient OPTIONAL)
 
