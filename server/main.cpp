@@ -232,17 +232,22 @@ int serve(const std::string& config_path, const std::string& data, const std::st
     executor.start();
   }
   // A node without the api role builds the router (the executor runs requests through it) but
-  // serves no HTTP.
-  std::unique_ptr<HttpServer> server;
-  unsigned short port = 0;
-  if (roles.api) {
-    server = std::make_unique<HttpServer>(http, router);
-    port = server->start();
+  // serves only what operations need of every node: /healthz, /api/version and /metrics.
+  Router ops_router;
+  HttpServerOptions ops_http = http;
+  if (!roles.api) {
+    ops_router.set_authenticator([&keys](const HttpRequest& r) { return keys.authenticate(r); });
+    add_system_routes(ops_router);
+    add_metrics_route(ops_router, metrics, store, printers, hub, jobs.saliency_cache());
+    ops_http.websockets.clear();
   }
+  std::unique_ptr<HttpServer> server = roles.api ? std::make_unique<HttpServer>(http, router)
+                                                 : std::make_unique<HttpServer>(ops_http, ops_router);
+  const unsigned short port = server->start();
   jobs.start();
   printers.start();
-  const std::string where = server ? "listening on http://" + http.address + ":" + std::to_string(port)
-                                   : "serving no HTTP (no api role)";
+  const std::string where = "listening on http://" + http.address + ":" + std::to_string(port) +
+                            (roles.api ? "" : " (operations only: /healthz, /metrics; no api role)");
   log_line("salientd " + std::string(version()) + " " + where + " node=" + config.node.id + " roles=" +
            role_names + " data=" + config.data_dir + " database=" + store.database_url().redacted());
   notify_ready(server ? "listening on " + http.address + ":" + std::to_string(port) : "running");
