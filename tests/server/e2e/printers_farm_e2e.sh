@@ -70,11 +70,11 @@ TOML
 }
 start_x() {  # X serves no HTTP: it is up when it says so
   local before
-  before=$(grep -c "serving no HTTP" x.log 2>/dev/null || true)
-  "$salientd" --data xdata --config x.toml --database "$database" 2>>x.log &
+  before=$(grep -c "operations only" x.log 2>/dev/null || true)
+  "$salientd" --data xdata --config x.toml --listen 127.0.0.1:0 --database "$database" 2>>x.log &
   xpid=$!
   for _ in $(seq 600); do
-    [ "$(grep -c "serving no HTTP" x.log 2>/dev/null || true)" -gt "${before:-0}" ] && return 0
+    [ "$(grep -c "operations only" x.log 2>/dev/null || true)" -gt "${before:-0}" ] && return 0
     sleep 0.05
   done
   tail x.log; fail "node X did not start"
@@ -100,6 +100,11 @@ start y.toml ydata
 x_config 1
 start_x
 grep -q "node=X roles=printers" x.log || fail "X's start line: $(grep salientd x.log)"
+# Without the api role X serves operations only: /healthz and /metrics, not the API.
+x_base=$(grep -o "http://127.0.0.1:[0-9]*" x.log | tail -1)
+[ "$(curl -s -o /dev/null -w '%{http_code}' "$x_base/healthz")" = 200 ] || fail "X's /healthz"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -H "X-Api-Key: $key" "$x_base/api/v1/printers")" = 404 ] ||
+  fail "X serves the API without the api role"
 
 # 1. Y lists x1 on X; a job sliced on Y prints on x1 through Y, exactly.
 wait_x1 operational
@@ -130,7 +135,7 @@ wait_x1 paused
 # A node Z configured with x1 while X lives is refused at its start, naming both, and touches
 # nothing of x1 (its paused print stays paused).
 z_config x1
-if "$salientd" --data zdata --config z.toml --database "$database" 2> z-refused.log; then
+if "$salientd" --data zdata --config z.toml --listen 127.0.0.1:0 --database "$database" 2> z-refused.log; then
   fail "node Z started with x1, which live node X holds"
 fi
 grep -q "'x1'.*'X'.*'Z'" z-refused.log || fail "the refusal does not name x1, X and Z: $(cat z-refused.log)"
@@ -212,9 +217,9 @@ done
 
 # 6. Node Z: a printer id X holds is refused; with z1, Z and X share the farm queue, each entry once.
 z_config z1
-"$salientd" --data zdata --config z.toml --database "$database" 2>>z.log &
+"$salientd" --data zdata --config z.toml --listen 127.0.0.1:0 --database "$database" 2>>z.log &
 zpid=$!
-eventually 60 grep -q "serving no HTTP" z.log || fail "node Z did not start"
+eventually 60 grep -q "operations only" z.log || fail "node Z did not start"
 for _ in $(seq 300); do [ "$(api "$base/api/v1/printers/z1" | field "['state']")" = operational ] && break; sleep 0.1; done
 first_x=$(last_print "['id']")
 for n in 1 2 3 4 5 6; do

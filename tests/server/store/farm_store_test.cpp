@@ -61,7 +61,8 @@ TEST_CASE("farm registry: a node's printers with its heartbeat, and a live node'
 }
 
 TEST_CASE(
-    "farm: a dead node's running prints are interrupted by the others, once, and a start marks only its own") {
+    "farm: a dead node's running prints are interrupted by the others, once, and a start marks only its "
+    "own") {
   const salient::test::ScratchDir scratch("farm-dead");
   Store store(scratch.path, test_database(scratch));
   FarmStore farm(store.db());
