@@ -23,7 +23,7 @@ psql -X -q "$cluster/postgres" -c "DROP DATABASE IF EXISTS $name" -c "CREATE DAT
 database="$cluster/$name"
 
 printf '[node]\nid = "node-a"\n' > a.toml
-printf '[node]\nid = "node-b"\n' > b.toml
+printf 'printers = []\n[node]\nid = "node-b"\n' > b.toml  # printer ids are unique in a farm: a's "sim" is enough
 start a.toml node-a
 pid_a=$pid base_a=$base
 grep -q "events: relayed between nodes.*node=node-a" daemon.log || fail "node A does not relay its events"

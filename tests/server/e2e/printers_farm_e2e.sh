@@ -70,11 +70,11 @@ TOML
 }
 start_x() {  # X serves no HTTP: it is up when it says so
   local before
-  before=$(grep -c "operations only" x.log 2>/dev/null || true)
+  before=$(grep -c "no api role" x.log 2>/dev/null || true)
   "$salientd" --data xdata --config x.toml --listen 127.0.0.1:0 --database "$database" 2>>x.log &
   xpid=$!
   for _ in $(seq 600); do
-    [ "$(grep -c "operations only" x.log 2>/dev/null || true)" -gt "${before:-0}" ] && return 0
+    [ "$(grep -c "no api role" x.log 2>/dev/null || true)" -gt "${before:-0}" ] && return 0
     sleep 0.05
   done
   tail x.log; fail "node X did not start"
@@ -131,7 +131,7 @@ wait_x1 printing
 code=$(api -o pause.json -w '%{http_code}' -XPOST "$base/api/v1/printers/x1/pause")
 [ "$code" = 202 ] || fail "pause through Y: $code $(cat pause.json)"
 wait_x1 paused
-[ "$(last_print "['state']")" = paused ] || fail "the print is not paused in the store"
+wait_print paused  # the store follows the printer's status within moments
 # A node Z configured with x1 while X lives is refused at its start, naming both, and touches
 # nothing of x1 (its paused print stays paused).
 z_config x1
@@ -219,7 +219,7 @@ done
 z_config z1
 "$salientd" --data zdata --config z.toml --listen 127.0.0.1:0 --database "$database" 2>>z.log &
 zpid=$!
-eventually 60 grep -q "operations only" z.log || fail "node Z did not start"
+eventually 60 grep -q "no api role" z.log || fail "node Z did not start"
 for _ in $(seq 300); do [ "$(api "$base/api/v1/printers/z1" | field "['state']")" = operational ] && break; sleep 0.1; done
 first_x=$(last_print "['id']")
 for n in 1 2 3 4 5 6; do
