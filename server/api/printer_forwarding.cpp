@@ -1,5 +1,7 @@
 #include "server/api/printer_forwarding.hpp"
 
+#include <cctype>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 #include "server/common/json_text.hpp"
@@ -25,6 +27,17 @@ std::string headers_json(const std::vector<std::pair<std::string, std::string>>&
   out.push_back({"Content-Type", content_type});
   for (const auto& [name, value] : headers) out.push_back({name, value});
   return json_text(out);
+}
+
+// The channel a node's executor listens on for new requests: the node id in a channel's
+// alphabet (lower case, digits, '_'). Two ids that map alike only wake each other's executor.
+std::string request_channel(const std::string& node) {
+  std::string out = "salient_requests_";
+  for (char c : node.substr(0, 40)) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    out += std::isalnum(u) ? static_cast<char>(std::tolower(u)) : '_';
+  }
+  return out;
 }
 
 HttpResponse from_answer(const PrinterAnswer& a) {
@@ -105,6 +118,13 @@ HttpResponse PrinterFarm::carry(const HttpRequest& request, const FarmPrinter& p
   const long long id = farm.post({0, printer.node, request.method, local_target(request), request.body,
                                   caller.user, std::string(to_string(caller.role))},
                                  now());
+  // Wakes the owning node's executor at once (it also polls, slowly, in case a wake is lost).
+  if (store_.db().dialect() == Dialect::postgresql) {
+    try {
+      store_.db().notify(request_channel(printer.node), "");
+    } catch (const StoreError&) {  // the request is in the table: the executor's poll finds it
+    }
+  }
   const auto deadline =
       std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.timeout_seconds);
   auto wait = std::chrono::milliseconds(2);
@@ -135,12 +155,29 @@ void PrinterRequestExecutor::start() {
 
 void PrinterRequestExecutor::stop() {
   stopping_ = true;
+  if (thread_.joinable() && store_.db().dialect() == Dialect::postgresql) {
+    try {
+      store_.db().notify(request_channel(node_), "");  // out of its wait now, not after kIdlePoll
+    } catch (const std::exception&) {
+    }
+  }
   if (thread_.joinable()) thread_.join();
 }
 
 void PrinterRequestExecutor::loop() {
   auto last_purge = std::chrono::steady_clock::now();
+  // On PostgreSQL a connection of its own listens for the API nodes' wake-ups, so that an idle
+  // node costs the database one poll a second (kIdlePoll), not one every kPoll.
+  std::unique_ptr<Database> listener;
   while (!stopping_) {
+    try {
+      if (!listener && store_.db().dialect() == Dialect::postgresql) {
+        listener = std::make_unique<Database>(store_.database_url());
+        listener->listen(request_channel(node_));
+      }
+    } catch (const std::exception&) {
+      listener.reset();  // the database away: polled every kPoll until it is back
+    }
     try {
       FarmStore farm(store_.db());
       const auto taken = farm.take(node_, 16);
@@ -156,7 +193,15 @@ void PrinterRequestExecutor::loop() {
       if (!taken.empty()) continue;
     } catch (const std::exception&) {  // the database away for a moment: the next poll may work
     }
-    std::this_thread::sleep_for(kPoll);
+    if (!listener) {
+      std::this_thread::sleep_for(kPoll);
+      continue;
+    }
+    try {
+      listener->wait_notification(kIdlePoll);  // a wake-up, or the slow poll: then take
+    } catch (const std::exception&) {
+      listener.reset();  // its connection broke: listen again on a new one
+    }
   }
 }
 

@@ -3,7 +3,8 @@
 // the database to the node that owns it (a row in printer_requests), its answer awaited: 503
 // when that node is dead (its heartbeat older than the lease), 504 when it does not answer in
 // time (the request is then cancelled: it never runs late). PrinterRequestExecutor is the owning
-// node's side: it takes the requests for this node (polling an index every kPoll) and runs each
+// node's side: it takes the requests for this node (woken by a NOTIFY from the API node; polling
+// an index every kIdlePoll in case one is lost, every kPoll on SQLite) and runs each
 // through this node's Router as the caller it names, who was authenticated where it came in.
 #pragma once
 
@@ -53,7 +54,8 @@ class PrinterFarm {
 
 class PrinterRequestExecutor {
  public:
-  static constexpr std::chrono::milliseconds kPoll{50};
+  static constexpr std::chrono::milliseconds kPoll{50};        // SQLite, or PostgreSQL away
+  static constexpr std::chrono::milliseconds kIdlePoll{1000};  // PostgreSQL: woken by NOTIFY
   PrinterRequestExecutor(Store& store, const Router& router, std::string node);
   ~PrinterRequestExecutor();
   void start();

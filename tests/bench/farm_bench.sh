@@ -108,6 +108,26 @@ for c in 1 4 16; do
   tps=$("$bin/pgbench" -n -N -c $c -j 2 -T 10 "$database" 2>/dev/null | awk '/^tps/ {print $3; exit}')
   echo "pgbench -N (simple updates), $c clients: $tps transactions/s"
 done
+echo "== 2b. a request for another node's printer, carried through the database (sequential, 200)"
+cat > "$work/px.toml" <<TOML
+[node]
+id = "px"
+roles = ["printers"]
+[[printers]]
+id = "remote"
+kind = "sim"
+sim_args = "--advanced-ok --time-scale 0.05 --heat-time-scale 0"
+TOML
+mkdir -p "$work/px" && cp "$work/pg/api-key" "$work/px/"
+"$build/server/salientd" --config "$work/px.toml" --data "$work/px" --listen 127.0.0.1:0 --database "$database" 2> "$work/px.log" &
+pids+=($!)
+for _ in $(seq 300); do curl -s -H "X-Api-Key: $key_pg" "$base_pg/api/v1/printers/remote" | grep -q '"operational"' && break; sleep 0.1; done
+latency() {  # latency PATH: p50/p99 of 200 sequential GETs through the pg node
+  for _ in $(seq 200); do curl -s -o /dev/null -w '%{time_total}\n' -H "X-Api-Key: $key_pg" "$base_pg$1"; done |
+    python3 -c "import sys; t = sorted(float(l) * 1000 for l in sys.stdin); print(f'p50 {t[len(t) // 2]:.1f} ms  p99 {t[int(len(t) * 0.99) - 1]:.1f} ms')"
+}
+echo "GET /api/v1/printers/remote/queue (another node's): $(latency /api/v1/printers/remote/queue)"
+echo "GET /api/v1/printers/sim/queue (this node's):       $(latency /api/v1/printers/sim/queue)"
 echo "== 3. claims per second with the lease scheme (claim, renew, finish; K connections)"
 echo "   $build/tests/bench/claims_bench URL 3000 1 2 4 8"
 "$build/tests/bench/claims_bench" "$database" 3000 1 2 4 8
