@@ -42,6 +42,8 @@ echo "== daemon: wrk on the printer status (idle, while slicing), idle memory, 2
 bash tests/bench/daemon_bench.sh "$build"
 echo "== farm: job claims per second with the lease scheme (PostgreSQL fsync off/on, SQLite), K = 1, 2, 4, 8"
 bash tests/bench/claims_bench.sh "$build"
+echo "== farm: status requests PostgreSQL vs SQLite, transactions per printer/job/node, forwarded requests, claims, event latency (fsync on)"
+bash tests/bench/farm_bench.sh "$build"
 echo "== printer link: lines per second to salient-sim, ours vs printcore; share of a 250,000 baud wire"
 bash tests/bench/link_bench.sh "$build"
 echo "== s3g: actions per second to the simulated Sailfish board, ours vs gpx -s; share of a 115,200 baud wire"
