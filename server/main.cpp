@@ -207,7 +207,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   if (farm)
     printers.set_farm_profiles(
         [&printer_farm](const std::string& profile) { return printer_farm.profile_live(profile); });
-  hub.set_snapshot(event_snapshots(store, printers));
+  hub.set_snapshot(event_snapshots(store, printers, farm ? &printer_farm : nullptr));
   // On PostgreSQL the events go through the database to every node's subscribers (and this one's).
   // Declared before the printers, which publish into it until they are gone; stopped before them,
   // since it calls into them (RelayStop, also when an exception unwinds).

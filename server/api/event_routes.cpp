@@ -6,6 +6,7 @@
 #include <unordered_map>
 
 #include "server/api/api_json.hpp"
+#include "server/api/printer_forwarding.hpp"
 #include "server/api/printer_json.hpp"
 #include "server/api/routes.hpp"
 #include "server/common/json_text.hpp"
@@ -81,8 +82,8 @@ void add_event_route(Router& router) {
   });
 }
 
-SnapshotFn event_snapshots(Store& store, PrinterService& printers) {
-  return [&store, &printers](const std::string& topic) {
+SnapshotFn event_snapshots(Store& store, PrinterService& printers, PrinterFarm* farm) {
+  return [&store, &printers, farm](const std::string& topic) {
     std::vector<std::pair<std::string, std::string>> out;
     if (topic == "jobs") {  // the jobs that are not finished yet, oldest first
       JobStore jobs(store.db());
@@ -96,10 +97,16 @@ SnapshotFn event_snapshots(Store& store, PrinterService& printers) {
     } else if (topic == "printers") {
       for (const auto& p : printers.all())
         out.emplace_back("printer", json_text(printer_status_json(p->status())));
+      if (farm)
+        for (const FarmPrinter& p : farm->others())
+          out.emplace_back("printer", json_text(farm_printer_json(p, farm->live(p))));
     } else if (topic.rfind("printer/", 0) == 0) {
       for (const auto& p : printers.all())
         if (p->id() == topic.substr(8))
           out.emplace_back("printer", json_text(printer_status_json(p->status())));
+      if (out.empty() && farm)
+        if (const auto p = farm->other(topic.substr(8)))
+          out.emplace_back("printer", json_text(farm_printer_json(*p, farm->live(*p))));
     }
     return out;
   };

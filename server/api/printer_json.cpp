@@ -91,4 +91,14 @@ nlohmann::json print_queue_json(const std::string& key, const std::vector<QueueE
   return {{"printer", key}, {"entries", list}};
 }
 
+nlohmann::json farm_printer_json(const FarmPrinter& p, bool live) {
+  nlohmann::json out = nlohmann::json::parse(p.status, nullptr, false);  // the node wrote it; a bad one is {}
+  if (!out.is_object()) out = nlohmann::json::object();
+  out["id"] = p.id;
+  out["profile"] = p.profile;
+  out["node"] = p.node;
+  if (!live) out["state"] = "offline";
+  return out;
+}
+
 }  // namespace salient::server

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/printers/printer_status.hpp"
+#include "server/store/farm_store.hpp"
 #include "server/store/print_store.hpp"
 #include "server/store/queue_store.hpp"
 
@@ -19,6 +20,8 @@ nlohmann::json print_totals_json(const PrintTotals& t);
 // id, kind, protocol, profile, state, error, firmware, device, temperatures, print (with
 // elapsed and eta), last_print.
 nlohmann::json printer_status_json(const PrinterStatus& s);
+// Another farm node's printer as that node last wrote it (with its node), "offline" unless `live`.
+nlohmann::json farm_printer_json(const FarmPrinter& p, bool live);
 // A queue: {"printer" (or "profile" for a farm-wide queue), "entries": [{entry, position,
 // state: "queued" or "slicing" (a job not sliced yet), job | file, queued_at}]}, what
 // GET …/queue returns and "queue" events carry. `key`: a printer id or "profile/P".

@@ -27,18 +27,7 @@ json local_status(const Printer& p, const PrinterFarm* farm) {
 }
 
 json remote_status(const FarmPrinter& p, const PrinterFarm& farm) {
-  json out;
-  try {
-    out = json::parse(p.status);
-  } catch (const std::exception&) {
-    out = json::object();
-  }
-  if (!out.is_object()) out = json::object();
-  out["id"] = p.id;
-  out["profile"] = p.profile;
-  out["node"] = p.node;
-  if (!farm.live(p)) out["state"] = "offline";
-  return out;
+  return farm_printer_json(p, farm.live(p));
 }
 
 // A handler for /api/v1/printers/{id}/…: run here when the printer is this node's, else carried

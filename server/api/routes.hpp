@@ -51,7 +51,9 @@ void add_metrics_route(Router& router, const Metrics& metrics, Store& store, Pri
 void add_event_route(Router& router);
 WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys);
 // What a new subscriber to a topic sees first: the job's or printers' current state.
-SnapshotFn event_snapshots(Store& store, PrinterService& printers);
+class PrinterFarm;
+// `farm` (a farm's API node): other nodes' printers are in the snapshots too.
+SnapshotFn event_snapshots(Store& store, PrinterService& printers, PrinterFarm* farm = nullptr);
 // Job changes as "job" events; a change of state or phase is never dropped, progress coalesces.
 std::function<void(const Job&)> job_event_publisher(EventHub& hub);
 // Printer changes as "printer" events (state always delivered, progress coalesces) and the

@@ -85,6 +85,10 @@ print(ps); sys.exit(0 if ok else 1)"
 eventually 60 printers_seen n1 > /dev/null || fail "n1 does not list the farm's printers: $(cat eventually.out)"
 eventually 60 printers_seen n3 > /dev/null || fail "n3 does not list the farm's printers: $(cat eventually.out)"
 
+# A client on n1 subscribing to another node's printer gets its state first, from the registry.
+SALIENT_SERVER=${bases[n1]} SALIENT_API_KEY=$key timeout 5 "$salient" events printer/c1 > snapshot.jsonl 2>&1 || true
+grep '"topic":"printer/c1"' snapshot.jsonl | grep -q '"node":"n3"' || fail "no snapshot of n3's c1 on n1: $(cat snapshot.jsonl)"
+
 # The watcher on n1: every job and printer event.
 SALIENT_SERVER=${bases[n1]} SALIENT_API_KEY=$key "$salient" events jobs printers > events.jsonl 2> events.err &
 watcher=$!
