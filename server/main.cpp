@@ -245,7 +245,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_octoprint_routes(router, store, printers, config, octo, sessions, hub);
   AppKeyRequests app_key_requests;
   add_auth_routes(router, keys, sessions, app_key_requests);
-  add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache(), config.node);
+  add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache(), config.node, relay.get());
   add_event_route(router);
   add_sockjs_routes(router);
   add_web_routes(router, config);
@@ -266,7 +266,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   if (!roles.api) {
     ops.set_authenticator([&keys](const HttpRequest& r) { return keys.authenticate(r); });
     add_system_routes(ops, store, config.node, log_line);
-    add_metrics_route(ops, metrics, store, printers, hub, jobs.saliency_cache(), config.node);
+    add_metrics_route(ops, metrics, store, printers, hub, jobs.saliency_cache(), config.node, relay.get());
     ops_http.websockets.clear();
   }
   auto server = std::make_unique<HttpServer>(roles.api ? http : ops_http, roles.api ? router : ops);

@@ -1,15 +1,17 @@
 // GET /metrics: the daemon's counters, and gauges read at scrape time from the database, the
 // printers and the event hub.
 #include "server/api/routes.hpp"
+#include "server/events/event_relay.hpp"
 #include "server/store/job_store.hpp"
 
 namespace salient::server {
 
 void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
-                       const EventHub& hub, const core::SaliencyCache& saliency, const NodeConfig& node) {
+                       const EventHub& hub, const core::SaliencyCache& saliency, const NodeConfig& node,
+                       const EventRelay* relay) {
   router.add(
       "GET", "/metrics", Access::key,
-      [&metrics, &store, &printers, &hub, &saliency, node](const HttpRequest&, const PathParams&) {
+      [&metrics, &store, &printers, &hub, &saliency, node, relay](const HttpRequest&, const PathParams&) {
         // Which farm node this is (Prometheus' own `instance` label is its address): an info gauge,
         // joined on by queries that need the node.
         std::string roles;
@@ -70,6 +72,24 @@ void add_metrics_route(Router& router, const Metrics& metrics, Store& store, Pri
             "# HELP salient_saliency_cache_misses_total Saliency computed by jobs (uniform is not counted).\n"
             "# TYPE salient_saliency_cache_misses_total counter\nsalient_saliency_cache_misses_total " +
             std::to_string(saliency.misses()) + "\n";
+        if (relay) {
+          const EventRelayStats s = relay->stats();
+          out +=
+              "# HELP salient_relay_events_total Events between the farm's nodes through PostgreSQL: sent, "
+              "received (every node's), coalesced or dropped under backlog (never a state change), stored "
+              "(too large for a NOTIFY).\n# TYPE salient_relay_events_total counter\n";
+          for (const auto& [what, n] : {std::pair{"sent", s.sent},
+                                        {"received", s.received},
+                                        {"coalesced", s.coalesced},
+                                        {"dropped", s.dropped},
+                                        {"stored", s.stored}})
+            out +=
+                "salient_relay_events_total{what=\"" + std::string(what) + "\"} " + std::to_string(n) + "\n";
+          out +=
+              "# HELP salient_relay_reconnects_total Times the relay's listener connected again.\n# TYPE "
+              "salient_relay_reconnects_total counter\nsalient_relay_reconnects_total " +
+              std::to_string(s.reconnects) + "\n";
+        }
         return HttpResponse::text(200, std::move(out), "text/plain; version=0.0.4; charset=utf-8");
       });
 }

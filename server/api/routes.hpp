@@ -43,9 +43,12 @@ void add_auth_routes(Router& router, ApiKeys& keys, Sessions& sessions, AppKeyRe
 // The web page (open): / and /web/{file} from the binary, /vendor/{three,chart.js}/… from
 // config.web_vendor_dir.
 void add_web_routes(Router& router, const DaemonConfig& config);
-// /metrics (Prometheus text), with this node's id (salient_node_info).
+class EventRelay;
+// /metrics (Prometheus text), with this node's id (salient_node_info) and, in a farm, the events
+// relayed between nodes (`relay`, may be null).
 void add_metrics_route(Router& router, const Metrics& metrics, Store& store, PrinterService& printers,
-                       const EventHub& hub, const core::SaliencyCache& saliency, const NodeConfig& node);
+                       const EventHub& hub, const core::SaliencyCache& saliency, const NodeConfig& node,
+                       const EventRelay* relay = nullptr);
 
 // The WebSocket /api/v1/events (keyed; ?topics=a,b subscribes at once), and 426 for a plain GET.
 void add_event_route(Router& router);

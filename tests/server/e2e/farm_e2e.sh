@@ -211,7 +211,9 @@ PY
 # Operations: each node's /metrics names it; salient doctor sees the database, and fails its
 # line when the database goes away under the nodes.
 for n in n1 n2 n3; do
-  on "$n" /metrics | grep -q "^salient_node_info{node=\"$n\"," || fail "$n's /metrics does not name it"
+  on "$n" /metrics > metrics-$n.txt
+  grep -q "^salient_node_info{node=\"$n\"," metrics-$n.txt || fail "$n's /metrics does not name it"
+  grep -Eq '^salient_relay_events_total\{what="received"\} [1-9]' metrics-$n.txt || fail "$n's /metrics has no relayed events"
 done
 doctor_run() {  # doctor_run EXPECTED_STATUS
   local got=0
