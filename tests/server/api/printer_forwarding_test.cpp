@@ -94,3 +94,28 @@ TEST_CASE(
   CHECK(refused.status == 503);
   CHECK(refused.body.find("'x'") != std::string::npos);
 }
+
+TEST_CASE("forwarding on PostgreSQL wakes the owning node at once: it does not wait for its idle poll") {
+  const salient::test::ScratchDir scratch("forwarding-wake");
+  Store store(scratch.path, salient::test::test_database(scratch));
+  if (store.db().dialect() != Dialect::postgresql) return;  // SQLite polls every kPoll: nothing to wake
+  const double now = now_seconds();
+  FarmStore(store.db()).heartbeat({"x", "printers", "1", now, now});
+  FarmStore(store.db()).register_printers("x", {{"x1", "generic-i3", "{}"}}, now, now - 15);
+  Router x_router;
+  x_router.add("POST", "/api/v1/printers/{id}/pause", Access::key, [](const HttpRequest&, const PathParams&) {
+    return json_response(202, {{"paused", true}});
+  });
+  PrinterRequestExecutor x_executor(store, x_router, "x");
+  x_executor.start();
+  PrinterFarm y(store, {"y", 15, 5, 64, 4});
+  const auto x1 = y.other("x1");
+  REQUIRE(x1);
+  CHECK(y.forward(pause_request(Role::operator_), *x1).status == 202);  // the executor is listening now
+  // Ten requests: polled once a second (kIdlePoll) they would take about 5 s; woken, milliseconds.
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < 10; ++i) CHECK(y.forward(pause_request(Role::operator_), *x1).status == 202);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  CHECK(seconds < 2.5);
+  MESSAGE("10 forwarded requests in " << seconds << " s");
+}
