@@ -105,7 +105,11 @@ void MarlinSession::send_now(const std::vector<std::string>& lines, Millis now) 
 
 void MarlinSession::cancel(const std::vector<std::string>& cleanup, Millis now) {
   if (state_ != SessionState::printing && state_ != SessionState::paused) return;
+  // Console lines asked for before the cancel still go, ahead of the cleanup, as OctoPrint's
+  // command queue sends them: they were answered 204, and a heater set by one is then turned off.
+  std::deque<std::string> console = std::exchange(console_, {});
   drop_queue();
+  for (std::string& line : console) queue_.emplace_back(std::move(line), false);
   for (const std::string& line : cleanup) {
     std::string command = strip_comment(line);
     if (!command.empty()) queue_.emplace_back(std::move(command), false);

@@ -137,7 +137,16 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const Link
   Millis give_up = Millis::max();
   try {
     for (;;) {
-      switch (request_.exchange(kNone)) {
+      const int request = request_.exchange(kNone);
+      // Console lines go before the request read with them: they were asked for before it (a line
+      // sent, then a cancel, goes ahead of the cleanup). Once the print is ending they wait in
+      // to_send_ and come back as unsent, for between prints.
+      const bool console_goes =
+          session.state() == SessionState::printing || session.state() == SessionState::paused;
+      if (std::vector<std::string> lines = console_goes ? take_to_send() : std::vector<std::string>{};
+          !lines.empty())
+        session.send_now(lines, now());
+      switch (request) {
         case kPause:
           session.pause();
           break;
@@ -157,7 +166,6 @@ PrintResult MarlinLink::print(std::shared_ptr<const Program> program, const Link
         default:
           break;
       }
-      if (std::vector<std::string> lines = take_to_send(); !lines.empty()) session.send_now(lines, now());
       if (now() >= give_up) {
         if (std::string out = session.take_output(); !out.empty()) transport_->write(out);
         result.reason = "the printer did not confirm the heaters off within " +

@@ -240,7 +240,8 @@ TEST_CASE("pause, resume, cancel and emergency stop") {
   CHECK(s.state() == SessionState::failed);
 }
 
-TEST_CASE("console lines during a print: next to go, while paused too, not counted, dropped by a cancel") {
+TEST_CASE(
+    "console lines during a print: next to go, while paused too, not counted, before a cancel's cleanup") {
   MarlinSession s;  // ping-pong: one line in flight, so the order is plain to see
   s.begin(program, milliseconds(0));
   s.take_output();                        // M110 N0
@@ -261,14 +262,19 @@ TEST_CASE("console lines during a print: next to go, while paused too, not count
   CHECK(s.commands_done() == 1);  // only G28 of the file
   s.resume(milliseconds(8));
   CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{5, "G1 X10 Y10 F3000"}});
-  s.send_now({"M107"}, milliseconds(9));    // in flight behind the move…
-  s.cancel({"M104 S0"}, milliseconds(10));  // …and dropped by the cancel: the cleanup goes instead
+  s.send_now({"M107", "M104 S200"}, milliseconds(9));  // waiting behind the move…
+  s.cancel({"M104 S0"}, milliseconds(10));  // …still go, before the cleanup (which turns the heater off)
   s.on_receive("ok\n", milliseconds(11));
-  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{6, "M104 S0"}});
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{6, "M107"}});
   s.on_receive("ok\n", milliseconds(12));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{7, "M104 S200"}});
+  s.on_receive("ok\n", milliseconds(13));
+  CHECK(sent(s.take_output()) == std::vector<std::pair<long long, std::string>>{{8, "M104 S0"}});
+  CHECK(!s.idle());
+  s.on_receive("ok\n", milliseconds(14));
   CHECK(s.state() == SessionState::cancelled);
   CHECK(s.idle());
-  s.send_now({"M106"}, milliseconds(13));  // nothing goes after the end
+  s.send_now({"M106"}, milliseconds(15));  // nothing goes after the end
   CHECK(s.take_output().empty());
 }
 

@@ -158,13 +158,17 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   CHECK(status(p)["print"]["layer"] == program[static_cast<std::size_t>(held)].layer + 1);
   p.resume();
   REQUIRE(eventually([&] { return status(p)["print"]["confirmed"] > held; }));
+  p.command({"M117 asked before the cancel"});  // answered 204: it goes, ahead of the cleanup
   p.cancel();
   REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
   CHECK(status(p)["last_print"]["state"] == "cancelled");
   p.stop();
   const auto log = executed(f.dir.path / "sim.log");
   REQUIRE(log.size() > 3);
-  CHECK(std::find(log.end() - 8, log.end(), "M104 S0") != log.end());  // heaters off after the cancel
+  const auto heaters_off = std::find(log.rbegin(), log.rend(), "M104 S0");
+  CHECK(heaters_off - log.rbegin() < 8);  // heaters off after the cancel
+  CHECK(std::count(log.begin(), log.end(), "M117 asked before the cancel") == 1);
+  CHECK(std::find(log.rbegin(), log.rend(), "M117 asked before the cancel") > heaters_off);
   // The fan line went while paused: right after the commands confirmed before the pause.
   const auto fan = std::find(log.begin(), log.end(), "M106 S255");
   REQUIRE(fan != log.end());
