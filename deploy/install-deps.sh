@@ -34,6 +34,8 @@ build_packages=(
   # the PostgreSQL store backend (salientd --database postgresql://…): libpq to build; the
   # server (15 in Debian 12) for the store tests, which start a temporary cluster on loopback
   libpq-dev postgresql
+  # the farm test with nodes whose clocks disagree (libfaketime shifts one node's clock)
+  faketime
   # salientd tells systemd it is ready (sd_notify, Type=notify); `make deb` checks the package
   # with lintian and the deploy tests build it with dpkg-deb/dpkg-shlibdeps (dpkg-dev) and read
   # the udev rule with udevadm (udev)

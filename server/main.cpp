@@ -176,9 +176,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   if (farm) {  // a printer id another live node holds: refused before anything of it is touched
     std::vector<std::string> ids;
     for (const PrinterConfig& p : printers_config.printers) ids.push_back(p.id);
-    const double now =
-        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-    FarmStore(store.db()).check_unclaimed(config.node.id, ids, now - config.node.lease_seconds);
+    FarmStore farm_store(store.db());
+    farm_store.check_unclaimed(config.node.id, ids, farm_store.clock() - config.node.lease_seconds);
   }
   NodePresence* presence_hook = nullptr;  // set before any printer starts
   PrinterEvents printer_events = push.hooks(printer_event_publisher(hub));
@@ -242,6 +241,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_system_routes(router, store, config.node, log_line);
   add_job_routes(router, store, jobs, printers, config);
   add_printer_routes(router, printers, store, config, farm ? &printer_farm : nullptr);
+  add_node_routes(router, store, printers, config);
   add_octoprint_routes(router, store, printers, config, octo, sessions, hub);
   AppKeyRequests app_key_requests;
   add_auth_routes(router, keys, sessions, app_key_requests);

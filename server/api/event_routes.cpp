@@ -142,9 +142,10 @@ PrinterEvents printer_event_publisher(EventHub& hub) {
                 progress ? Delivery::coalesce : Delivery::always);
   };
   e.queue_changed = [&hub](const std::string& key, const std::vector<QueueEntry>& entries) {
-    const bool printer = key.find('/') == std::string::npos;
-    hub.publish({"printers", printer ? "printer/" + key : key}, "queue",
-                json_text(print_queue_json(key, entries)));
+    // A printer's queue also on its own topic; a farm queue ("farm/PROFILE") on "printers" only.
+    std::vector<std::string> topics{"printers"};
+    if (key.find('/') == std::string::npos) topics.push_back("printer/" + key);
+    hub.publish(topics, "queue", json_text(print_queue_json(key, entries)));
   };
   e.terminal_wanted = [&hub](const Printer& printer) {
     return hub.has_subscribers("terminal/" + printer.id());

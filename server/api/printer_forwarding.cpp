@@ -11,10 +11,6 @@ namespace {
 
 using nlohmann::json;
 
-double seconds_since_epoch() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-
 // The request's target as this node's router sees it: without the base path a proxy put in front.
 std::string local_target(const HttpRequest& r) {
   if (!r.base_path.empty() && r.target.rfind(r.base_path, 0) == 0) return r.target.substr(r.base_path.size());
@@ -60,7 +56,7 @@ HttpResponse from_answer(const PrinterAnswer& a) {
 }  // namespace
 
 double PrinterFarm::now() const {
-  return seconds_since_epoch();
+  return FarmStore(store_.db()).clock();  // one clock for the farm: the hosts' may disagree
 }
 
 std::vector<FarmPrinter> PrinterFarm::others() {
@@ -77,7 +73,7 @@ std::optional<FarmPrinter> PrinterFarm::other(const std::string& id) {
 }
 
 bool PrinterFarm::live(const FarmPrinter& p) const {
-  return p.heartbeat_at >= now() - options_.lease_seconds;
+  return p.heartbeat_age <= options_.lease_seconds;
 }
 
 bool PrinterFarm::profile_live(const std::string& profile) {
@@ -89,7 +85,7 @@ HttpResponse PrinterFarm::forward(const HttpRequest& request, const FarmPrinter&
     return error_response(503, "node_unavailable",
                           "printer " + printer.id + " is on node '" + printer.node +
                               "', which has not renewed its heartbeat for " +
-                              std::to_string(static_cast<long long>(now() - printer.heartbeat_at)) + " s");
+                              std::to_string(static_cast<long long>(printer.heartbeat_age)) + " s");
   if (request.body.size() > options_.max_body_bytes)
     return error_response(413, "too_large",
                           "a request for a printer of another node may carry at most " +
@@ -183,11 +179,10 @@ void PrinterRequestExecutor::loop() {
       const auto taken = farm.take(node_, 16);
       for (const PrinterRequest& r : taken) {
         const HttpResponse out = run(router_, r);
-        farm.answer(r.id, {out.status, headers_json(out.headers, out.content_type), out.body},
-                    seconds_since_epoch());
+        farm.answer(r.id, {out.status, headers_json(out.headers, out.content_type), out.body}, farm.clock());
       }
       if (std::chrono::steady_clock::now() - last_purge > std::chrono::minutes(1)) {
-        farm.purge(seconds_since_epoch() - 600);  // ours and the others': answers nobody waits for
+        farm.purge(farm.clock() - 600);  // ours and the others': answers nobody waits for
         last_purge = std::chrono::steady_clock::now();
       }
       if (!taken.empty()) continue;

@@ -29,6 +29,9 @@ void add_job_routes(Router& router, Store& store, JobService& jobs, PrinterServi
 class PrinterFarm;
 void add_printer_routes(Router& router, PrinterService& printers, Store& store, const DaemonConfig& config,
                         PrinterFarm* farm = nullptr);
+// /api/v1/nodes: the farm's nodes (each with its roles, printers and whether it is alive on the
+// database's clock; a single node lists itself), and DELETE …/{id} (admin) to forget a dead one.
+void add_node_routes(Router& router, Store& store, PrinterService& printers, const DaemonConfig& config);
 struct OctoState;
 class Sessions;
 // OctoPrint's API as its clients use it: /api/files/local, /api/job, /api/printer, /api/settings,

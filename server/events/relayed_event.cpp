@@ -2,6 +2,7 @@
 #include "server/events/relayed_event.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
@@ -39,12 +40,13 @@ RelayMessage decode_relay_message(const std::string& text, const std::string& ow
     RelayedEvent e;
     e.node = h.at("n").get<std::string>();
     e.type = h.at("y").get<std::string>();
-    e.topics = h.at("t").get<std::vector<std::string>>();
+    // Topics this node does not know (a newer node's) are left out; the event goes to the rest.
+    std::vector<std::string> topics = h.at("t").get<std::vector<std::string>>();
+    std::copy_if(topics.begin(), topics.end(), std::back_inserter(e.topics), EventHub::valid_topic);
     const int v = h.at("v").get<int>();
     if (v < 0 || v > static_cast<int>(Delivery::best_effort)) throw std::invalid_argument("bad delivery");
     e.delivery = static_cast<Delivery>(v);
-    if (e.topics.empty() || !std::all_of(e.topics.begin(), e.topics.end(), EventHub::valid_topic))
-      throw std::invalid_argument("bad topics");
+    if (e.topics.empty()) throw std::invalid_argument("no topic this node knows");
     e.data_json = text.substr(line + 1);
     e.local = e.node == own_node;
     out.event = std::move(e);

@@ -1,16 +1,10 @@
 #include "server/printers/node_presence.hpp"
 
+#include <optional>
+
 #include "server/store/farm_store.hpp"
 
 namespace salient::server {
-namespace {
-
-double now_seconds() {
-  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-
-}  // namespace
-
 NodePresence::NodePresence(Store& store, Options options, PrinterService* printers,
                            std::function<std::string(const Printer&)> status)
     : store_(store), options_(std::move(options)), printers_(printers), status_(std::move(status)) {}
@@ -21,14 +15,18 @@ NodePresence::~NodePresence() {
 
 void NodePresence::start(std::function<void()> tick) {
   tick_ = std::move(tick);
-  started_at_ = now_seconds();
-  heartbeat(started_at_);
+  started_at_ = FarmStore(store_.db()).clock();
+  FarmStore(store_.db())
+      .heartbeat({options_.node, options_.roles, options_.version, started_at_, started_at_});
+  register_printers(started_at_);
+  thread_ = std::thread([this] { run(); });
+}
+
+void NodePresence::register_printers(double now) {
   std::vector<FarmStore::Registration> rows;
   if (printers_)
     for (const auto& p : printers_->all()) rows.push_back({p->id(), p->config().profile, status_(*p)});
-  FarmStore(store_.db())
-      .register_printers(options_.node, rows, started_at_, started_at_ - options_.lease_seconds);
-  thread_ = std::thread([this] { run(); });
+  FarmStore(store_.db()).register_printers(options_.node, rows, now, now - options_.lease_seconds);
 }
 
 void NodePresence::stop() {
@@ -46,10 +44,16 @@ void NodePresence::changed(const Printer& printer) {
 }
 
 void NodePresence::heartbeat(double now) {
-  FarmStore(store_.db()).heartbeat({options_.node, options_.roles, options_.version, started_at_, now});
+  // Forgotten while away (its row and its printers' deleted): registered again, as at a start.
+  // Refused (StoreError, the beat retried) while another live node holds one of its printer ids.
+  if (FarmStore(store_.db()).heartbeat({options_.node, options_.roles, options_.version, started_at_, now}))
+    registered_ = false;
+  if (registered_) return;
+  register_printers(now);
+  registered_ = true;
 }
 
-void NodePresence::write_statuses(double now) {
+void NodePresence::write_statuses() {
   std::set<std::string> dirty;
   {
     std::lock_guard lock(mutex_);
@@ -57,7 +61,10 @@ void NodePresence::write_statuses(double now) {
   }
   if (dirty.empty() || !printers_) return;
   FarmStore farm(store_.db());
-  for (const std::string& id : dirty) farm.set_status(id, options_.node, status_(printers_->get(id)), now);
+  // When, by this host's clock: shown, never compared with another node's.
+  const double at =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  for (const std::string& id : dirty) farm.set_status(id, options_.node, status_(printers_->get(id)), at);
 }
 
 void NodePresence::run() {
@@ -72,14 +79,17 @@ void NodePresence::run() {
     lock.unlock();
     // A database that is away for a moment costs a missed beat, not the node: the next try may work.
     try {
-      const double now = now_seconds();
-      write_statuses(now);
+      write_statuses();
+      // Heartbeats and liveness on the database's clock, read once for both: hosts whose clocks
+      // disagree must still agree on who is alive.
+      std::optional<double> db_now;
+      const auto now = [&] { return db_now ? *db_now : *(db_now = FarmStore(store_.db()).clock()); };
       if (clock::now() >= next_beat) {
-        heartbeat(now);
+        heartbeat(now());
         next_beat = clock::now() + beat_every;
       }
       if (clock::now() >= next_tick) {
-        FarmStore(store_.db()).interrupt_dead(options_.node, now - options_.lease_seconds, now);
+        FarmStore(store_.db()).interrupt_dead(options_.node, now() - options_.lease_seconds, now());
         if (tick_) tick_();
         next_tick = clock::now() + std::chrono::seconds(1);
       }

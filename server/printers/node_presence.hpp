@@ -45,7 +45,8 @@ class NodePresence {
  private:
   void run();
   void heartbeat(double now);
-  void write_statuses(double now);
+  void register_printers(double now);
+  void write_statuses();
 
   Store& store_;
   Options options_;
@@ -53,6 +54,7 @@ class NodePresence {
   std::function<std::string(const Printer&)> status_;
   std::function<void()> tick_;
   double started_at_ = 0;
+  bool registered_ = true;  // the printers' rows are there (false: forgotten, not yet again)
 
   std::mutex mutex_;
   std::condition_variable wake_;

@@ -68,6 +68,20 @@ Database::Database(const std::filesystem::path& file) : Database(DatabaseUrl::sq
 
 Database::~Database() = default;
 
+std::string dialect_sql(const Database& db, std::string sql) {
+  const bool pg = db.dialect() == Dialect::postgresql;
+  const std::pair<std::string_view, std::string_view> words[] = {
+      {"{NOW}", pg ? "CAST(EXTRACT(EPOCH FROM clock_timestamp()) AS DOUBLE PRECISION)"
+                   : "((julianday('now') - 2440587.5) * 86400.0)"},
+      {"{REAL}", pg ? "DOUBLE PRECISION" : "REAL"},
+      {"{SKIP_LOCKED}", pg ? " FOR UPDATE SKIP LOCKED" : ""},
+  };
+  for (const auto& [token, word] : words)
+    for (std::size_t at = sql.find(token); at != std::string::npos; at = sql.find(token, at + word.size()))
+      sql.replace(at, token.size(), word);
+  return sql;
+}
+
 Dialect Database::dialect() const {
   return backend_->dialect();
 }

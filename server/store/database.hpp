@@ -103,4 +103,10 @@ class Database {
   std::unique_ptr<detail::DatabaseBackend> backend_;
 };
 
+// A statement written once for both dialects, with tokens: {NOW} the database's clock (seconds
+// since the epoch, with fractions: one clock for every node of a farm, whatever the hosts' clocks
+// say), {REAL}, and {SKIP_LOCKED}, which on PostgreSQL lets concurrent claimers pass over a row
+// another one is taking (SQLite has one writer at a time and needs nothing).
+std::string dialect_sql(const Database& db, std::string sql);
+
 }  // namespace salient::server

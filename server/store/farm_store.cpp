@@ -3,21 +3,42 @@
 namespace salient::server {
 namespace {
 
+// The heartbeat's age by the database's clock, as every node's heartbeat is written.
 constexpr const char* printer_columns =
-    "p.id, p.node, p.profile, p.status, p.updated_at, COALESCE(n.heartbeat_at, 0) "
-    "FROM farm_printers p LEFT JOIN nodes n ON n.id = p.node";
+    "p.id, p.node, p.profile, p.status, p.updated_at, COALESCE(n.heartbeat_at, 0), "
+    "{NOW} - COALESCE(n.heartbeat_at, 0) FROM farm_printers p LEFT JOIN nodes n ON n.id = p.node";
 
 FarmPrinter read_printer(const Database::Statement& q) {
-  return {q.text(0), q.text(1), q.text(2), q.text(3), q.real(4), q.real(5)};
+  return {q.text(0), q.text(1), q.text(2), q.text(3), q.real(4), q.real(5), q.real(6)};
 }
 
+constexpr const char* node_columns =
+    "id, roles, version, started_at, heartbeat_at, {NOW} - heartbeat_at FROM nodes";
+
 FarmNode read_node(const Database::Statement& q) {
-  return {q.text(0), q.text(1), q.null(2) ? "" : q.text(2), q.null(3) ? 0 : q.real(3), q.real(4)};
+  return {q.text(0), q.text(1), q.null(2) ? "" : q.text(2), q.null(3) ? 0 : q.real(3), q.real(4), q.real(5)};
 }
 
 }  // namespace
 
-void FarmStore::heartbeat(const FarmNode& node) {
+double FarmStore::clock() {
+  auto q = db_.prepare(dialect_sql(db_, "SELECT {NOW}"));
+  q.step();
+  const double now = q.real(0);
+  q.run();
+  return now;
+}
+
+bool FarmStore::heartbeat(const FarmNode& node) {
+  db_.prepare("UPDATE nodes SET roles = ?, version = ?, started_at = ?, heartbeat_at = ? WHERE id = ?")
+      .bind(1, std::string_view(node.roles))
+      .bind(2, std::string_view(node.version))
+      .bind(3, node.started_at)
+      .bind(4, node.heartbeat_at)
+      .bind(5, std::string_view(node.id))
+      .run();
+  if (db_.changes() == 1) return false;
+  // No row: a first start, or one forgotten (DELETE /api/v1/nodes/{id}) while the node was away.
   db_.prepare(
          "INSERT INTO nodes (id, roles, version, started_at, heartbeat_at) VALUES (?, ?, ?, ?, ?) "
          "ON CONFLICT (id) DO UPDATE SET roles = excluded.roles, version = excluded.version, "
@@ -28,10 +49,11 @@ void FarmStore::heartbeat(const FarmNode& node) {
       .bind(4, node.started_at)
       .bind(5, node.heartbeat_at)
       .run();
+  return true;
 }
 
 std::optional<FarmNode> FarmStore::node(const std::string& id) {
-  auto q = db_.prepare("SELECT id, roles, version, started_at, heartbeat_at FROM nodes WHERE id = ?");
+  auto q = db_.prepare(dialect_sql(db_, std::string("SELECT ") + node_columns + " WHERE id = ?"));
   q.bind(1, std::string_view(id));
   if (!q.step()) return std::nullopt;
   FarmNode n = read_node(q);
@@ -40,10 +62,30 @@ std::optional<FarmNode> FarmStore::node(const std::string& id) {
 }
 
 std::vector<FarmNode> FarmStore::nodes() {
-  auto q = db_.prepare("SELECT id, roles, version, started_at, heartbeat_at FROM nodes ORDER BY id");
+  auto q = db_.prepare(dialect_sql(db_, std::string("SELECT ") + node_columns + " ORDER BY id"));
   std::vector<FarmNode> out;
   while (q.step()) out.push_back(read_node(q));
   return out;
+}
+
+FarmStore::Forget FarmStore::forget(const std::string& node, double lease_seconds) {
+  Database::Transaction t(db_);  // a node that comes back meanwhile either is refused or stays
+  // Locked on PostgreSQL, so that a heartbeat arriving now waits and then finds no row: it makes
+  // a new one, and the node's printers register again at its next start.
+  auto q = db_.prepare(dialect_sql(db_, std::string("SELECT ") + node_columns + " WHERE id = ?" +
+                                            (db_.dialect() == Dialect::postgresql ? " FOR UPDATE" : "")));
+  q.bind(1, std::string_view(node));
+  if (!q.step()) return Forget::unknown;
+  const FarmNode row = read_node(q);
+  q.run();
+  if (row.heartbeat_age <= lease_seconds) return Forget::alive;
+  db_.prepare("UPDATE printer_requests SET state = 'cancelled' WHERE node = ? AND state = 'pending'")
+      .bind(1, std::string_view(node))
+      .run();
+  db_.prepare("DELETE FROM farm_printers WHERE node = ?").bind(1, std::string_view(node)).run();
+  db_.prepare("DELETE FROM nodes WHERE id = ?").bind(1, std::string_view(node)).run();
+  t.commit();
+  return Forget::forgotten;
 }
 
 void FarmStore::register_printers(const std::string& node, const std::vector<Registration>& printers,
@@ -94,14 +136,14 @@ void FarmStore::set_status(const std::string& id, const std::string& node, const
 }
 
 std::vector<FarmPrinter> FarmStore::printers() {
-  auto q = db_.prepare(std::string("SELECT ") + printer_columns + " ORDER BY p.id");
+  auto q = db_.prepare(dialect_sql(db_, std::string("SELECT ") + printer_columns + " ORDER BY p.id"));
   std::vector<FarmPrinter> out;
   while (q.step()) out.push_back(read_printer(q));
   return out;
 }
 
 std::optional<FarmPrinter> FarmStore::printer(const std::string& id) {
-  auto q = db_.prepare(std::string("SELECT ") + printer_columns + " WHERE p.id = ?");
+  auto q = db_.prepare(dialect_sql(db_, std::string("SELECT ") + printer_columns + " WHERE p.id = ?"));
   q.bind(1, std::string_view(id));
   if (!q.step()) return std::nullopt;
   FarmPrinter p = read_printer(q);

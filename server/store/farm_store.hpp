@@ -1,8 +1,9 @@
 // FarmStore: what the nodes of a farm (several salientd on one PostgreSQL) know of each other:
 // the nodes and their heartbeats (table nodes), every node's printers with their last status
 // (farm_printers), and requests for a printer carried to the node that owns it
-// (printer_requests). A node is live while its heartbeat is younger than the lease; times are
-// seconds since the epoch, from the caller's clock.
+// (printer_requests). A node is live while its heartbeat is younger than the lease. Times are
+// seconds since the epoch; the callers take heartbeats and liveness limits from clock(), the
+// database's, so that hosts whose clocks disagree still agree on who is alive.
 #pragma once
 
 #include <optional>
@@ -16,13 +17,15 @@ namespace salient::server {
 struct FarmNode {
   std::string id, roles, version;
   double started_at = 0, heartbeat_at = 0;
+  double heartbeat_age = 0;  // by the database's clock (read back; not written)
 };
 
 struct FarmPrinter {
   std::string id, node, profile;
   std::string status;  // the JSON document GET /api/v1/printers/{id} gives, as the node last wrote it
   double updated_at = 0;
-  double heartbeat_at = 0;  // its node's (0: the node has no row)
+  double heartbeat_at = 0;   // its node's (0: the node has no row)
+  double heartbeat_age = 0;  // how long ago, by the database's clock
 };
 
 // A request for a printer, as the API node that received it wrote it.
@@ -41,9 +44,17 @@ class FarmStore {
  public:
   explicit FarmStore(Database& db) : db_(db) {}
 
-  void heartbeat(const FarmNode& node);  // inserts or renews the node's row
+  double clock();  // the database's: seconds since the epoch
+  // Renews the node's row; true when there was none and it was made (a first start, or the node
+  // was forgotten while it was away: its printers must register again).
+  bool heartbeat(const FarmNode& node);
   std::optional<FarmNode> node(const std::string& id);
   std::vector<FarmNode> nodes();
+  // Forgets a retired node: its row and its printers' (their prints stay in the history), its
+  // requests not yet taken cancelled. Only a node dead on the database's clock (no heartbeat for
+  // `lease_seconds`); a live one is refused.
+  enum class Forget { forgotten, unknown, alive };
+  Forget forget(const std::string& node, double lease_seconds);
   // Registers `node`'s printers (id, profile, status), dropping its rows for printers it no
   // longer has, in one transaction. A printer id another live node holds (heartbeat after
   // `live_after`) is refused: StoreError naming both nodes.

@@ -35,24 +35,6 @@ Job read_job(const Database::Statement& q) {
   return j;
 }
 
-// The statements that differ between the dialects, written once with tokens: {NOW} the
-// database's clock (seconds since the epoch, with fractions), {REAL}, and {SKIP_LOCKED}, which on
-// PostgreSQL lets concurrent claimers pass over a row another one is taking (SQLite has one writer
-// at a time and needs nothing).
-std::string dialect_sql(const Database& db, std::string sql) {
-  const bool pg = db.dialect() == Dialect::postgresql;
-  const std::pair<std::string_view, std::string_view> words[] = {
-      {"{NOW}", pg ? "CAST(EXTRACT(EPOCH FROM clock_timestamp()) AS DOUBLE PRECISION)"
-                   : "((julianday('now') - 2440587.5) * 86400.0)"},
-      {"{REAL}", pg ? "DOUBLE PRECISION" : "REAL"},
-      {"{SKIP_LOCKED}", pg ? " FOR UPDATE SKIP LOCKED" : ""},
-  };
-  for (const auto& [token, word] : words)
-    for (std::size_t at = sql.find(token); at != std::string::npos; at = sql.find(token, at + word.size()))
-      sql.replace(at, token.size(), word);
-  return sql;
-}
-
 void bind_time(Database::Statement& q, int index, std::optional<double> now) {
   if (now)
     q.bind(index, *now);

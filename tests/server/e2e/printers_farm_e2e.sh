@@ -205,9 +205,12 @@ PY
 eventually 60 tail_matches || fail "the simulator did not execute the farm queue's files exactly"
 # Jobs submitted on Y to print once sliced, on x1 by name and on the profile: they wait in the
 # queues while Y slices them, then X starts them (its tick: the job finished on another node).
+# Two different jobs (the same model and settings would be the same job, answered 200, already done).
+height=4
 for target in x1 '{"profile": "generic-i3"}'; do
-  api -o chained.json -F "file=@$models/suzanne.obj" -F 'settings={"height": 4}' -F "print=$target" "$base/api/v1/jobs"
-  [ "$(field "['print']['queued']" < chained.json)" = True ] || fail "a job to print on $target once sliced: $(cat chained.json)"
+  height=$((height + 1))
+  code=$(api -o chained.json -w '%{http_code}' -F "file=@$models/suzanne.obj" -F "settings={\"height\": $height}" -F "print=$target" "$base/api/v1/jobs")
+  [ "$code" = 201 ] && [ "$(field "['print']['queued']" < chained.json)" = True ] || fail "a job to print on $target once sliced: $code $(cat chained.json)"
   chained=$(field "['id']" < chained.json)
   wait_state "$chained" done
   for _ in $(seq 300); do [ "$(last_print "['job']")" = "$chained" ] && break; sleep 0.1; done

@@ -350,7 +350,12 @@ TEST_CASE(
                          [](const json& j) { return j["data"]["i"].get<int>() % 10 == 0; });
   };
   REQUIRE(on_b.wait([&](const auto& v) { return states(v) == events / 10; }));
-  std::this_thread::sleep_for(300ms);
+  // Every event the sender sent arrives (the last ones after the last state change: waited for,
+  // not slept for, as a loaded machine may take its time).
+  on_b.wait([&](const auto& v) {
+    const EventRelayStats s = a.relay.stats();
+    return s.sent + s.coalesced + s.dropped == static_cast<std::uint64_t>(events) && v.size() == s.sent;
+  });
   const auto got = on_b.snapshot();
   CHECK(states(got) == events / 10);
   std::map<std::string, int> last;

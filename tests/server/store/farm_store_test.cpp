@@ -5,6 +5,8 @@
 
 #include <doctest/doctest.h>
 
+#include <chrono>
+#include <cmath>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -58,6 +60,58 @@ TEST_CASE("farm registry: a node's printers with its heartbeat, and a live node'
   farm.register_printers("y", {{"x2", "generic-i3", "{}"}}, 200, 185);
   CHECK(farm.printer("x2")->node == "y");
   CHECK(farm.nodes().size() == 2);
+}
+
+TEST_CASE("farm clock: the database's, and every heartbeat's age read on it") {
+  const salient::test::ScratchDir scratch("farm-clock");
+  Database db(test_database(scratch));
+  FarmStore farm(db);
+  const double host =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  const double now = farm.clock();
+  CHECK(std::abs(now - host) < 5);  // the same host here: the database's clock is the host's
+  CHECK(farm.clock() >= now);
+  CHECK(farm.heartbeat({"x", "printers", "1", now, now - 100}));        // a new row
+  CHECK_FALSE(farm.heartbeat({"x", "printers", "1", now, now - 100}));  // renewed
+  farm.register_printers("x", {{"x1", "generic-i3", "{}"}}, now, now - 15);
+  const auto x = farm.node("x");
+  REQUIRE(x);
+  CHECK(x->heartbeat_age >= 100);
+  CHECK(x->heartbeat_age < 110);
+  CHECK(farm.printer("x1")->heartbeat_age == doctest::Approx(farm.node("x")->heartbeat_age).epsilon(0.01));
+  CHECK(farm.nodes().at(0).heartbeat_age >= 100);
+}
+
+TEST_CASE(
+    "farm: a retired node is forgotten only when dead: its printers go and its prints stay until it comes "
+    "back") {
+  const salient::test::ScratchDir scratch("farm-forget");
+  Store store(scratch.path, test_database(scratch));
+  FarmStore farm(store.db());
+  const double now = farm.clock();
+  farm.heartbeat({"x", "printers", "1", now, now});
+  farm.register_printers("x", {{"x1", "generic-i3", "{}"}}, now, now - 15);
+  farm.heartbeat({"y", "api", "1", now, now});
+  PrintStore prints(store.db());
+  const long long print = prints.create("x1", std::nullopt, "d", "a.gcode", 10, now).id;
+  const long long pending =
+      farm.post({0, "x", "POST", "/api/v1/printers/x1/pause", "", "admin", "admin"}, now);
+
+  CHECK(farm.forget("nobody", 15) == FarmStore::Forget::unknown);
+  CHECK(farm.forget("x", 15) == FarmStore::Forget::alive);  // its heartbeat is fresh
+  CHECK(farm.printer("x1"));
+  farm.heartbeat({"x", "printers", "1", now, now - 60});  // silent for a minute
+  CHECK(farm.forget("x", 15) == FarmStore::Forget::forgotten);
+  CHECK_FALSE(farm.node("x"));
+  CHECK_FALSE(farm.printer("x1"));
+  CHECK(farm.nodes().size() == 1);
+  CHECK(prints.get(print));                                 // the history keeps its prints
+  CHECK(farm.take("x", 16).empty());                        // a request nobody will answer is cancelled…
+  CHECK_FALSE(farm.answer(pending, {200, "[]", ""}, now));  // …and answered by nobody
+  CHECK(farm.forget("x", 15) == FarmStore::Forget::unknown);
+  // The node comes back: its heartbeat makes the row again and says so (its printers register).
+  CHECK(farm.heartbeat({"x", "printers", "1", now, farm.clock()}));
+  CHECK(farm.node("x"));
 }
 
 TEST_CASE(
