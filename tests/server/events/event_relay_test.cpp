@@ -350,12 +350,16 @@ TEST_CASE(
                          [](const json& j) { return j["data"]["i"].get<int>() % 10 == 0; });
   };
   REQUIRE(on_b.wait([&](const auto& v) { return states(v) == events / 10; }));
-  // Every event the sender sent arrives (the last ones after the last state change: waited for,
-  // not slept for, as a loaded machine may take its time).
-  on_b.wait([&](const auto& v) {
+  // Every event the sender sent reaches B's node (the last ones after the last state change:
+  // waited for, not slept for, as a loaded machine may take its time). B's client may see fewer:
+  // its own queue coalesces progress it has not read yet, by the same rules.
+  const auto all_received = [&] {
     const EventRelayStats s = a.relay.stats();
-    return s.sent + s.coalesced + s.dropped == static_cast<std::uint64_t>(events) && v.size() == s.sent;
-  });
+    return s.sent + s.coalesced + s.dropped == static_cast<std::uint64_t>(events) &&
+           b.relay.stats().received == s.sent;
+  };
+  for (int i = 0; i < 3000 && !all_received(); ++i) std::this_thread::sleep_for(10ms);
+  CHECK(all_received());
   const auto got = on_b.snapshot();
   CHECK(states(got) == events / 10);
   std::map<std::string, int> last;
@@ -369,7 +373,8 @@ TEST_CASE(
   MESSAGE("sent ", s.sent, ", coalesced ", s.coalesced, ", dropped ", s.dropped, ", received on B ",
           got.size());
   CHECK(s.coalesced + s.dropped > 0);
-  CHECK(got.size() == events - s.coalesced - s.dropped);
+  CHECK(b.relay.stats().received == events - s.coalesced - s.dropped);
+  CHECK(got.size() <= b.relay.stats().received);
 }
 
 TEST_CASE("terminal lines across nodes: a subscriber on B makes A's has_subscribers true, until it leaves") {
