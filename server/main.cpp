@@ -188,12 +188,8 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   };
   PrinterService printers(printers_config, store, std::move(printer_events));
   push.attach(printers);
-  std::string role_names;
-  for (const auto& [on, name] :
-       {std::pair{roles.api, "api"}, {roles.slicer, "slicer"}, {roles.printers, "printers"}})
-    if (on) role_names += (role_names.empty() ? "" : ",") + std::string(name);
   NodePresence presence(
-      store, {config.node.id, role_names, std::string(version()), config.node.lease_seconds}, &printers,
+      store, {config.node.id, role_list(roles), std::string(version()), config.node.lease_seconds}, &printers,
       [](const Printer& p) { return json_text(printer_status_json(p.status())); });
   // A request for another node's printer holds an HTTP thread while it waits for the answer: a
   // farm's API node gets more of them, and at most all but two wait at once.
@@ -276,7 +272,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   const std::string where = "listening on http://" + http.address + ":" + std::to_string(port) +
                             (roles.api ? "" : " (/healthz and /metrics only: no api role)");
   log_line("salientd " + std::string(version()) + " " + where + " node=" + config.node.id + " roles=" +
-           role_names + " data=" + config.data_dir + " database=" + store.database_url().redacted());
+           role_list(roles) + " data=" + config.data_dir + " database=" + store.database_url().redacted());
   notify_ready("listening on " + http.address + ":" + std::to_string(port));
   std::unique_ptr<ZeroconfAnnouncer> zeroconf;
   if (config.zeroconf && roles.api) zeroconf = announce_octoprint(config.zeroconf_name, port, log_line);

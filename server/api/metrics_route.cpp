@@ -14,11 +14,7 @@ void add_metrics_route(Router& router, const Metrics& metrics, Store& store, Pri
       [&metrics, &store, &printers, &hub, &saliency, node, relay](const HttpRequest&, const PathParams&) {
         // Which farm node this is (Prometheus' own `instance` label is its address): an info gauge,
         // joined on by queries that need the node.
-        std::string roles;
-        for (const auto& [on, name] : {std::pair{node.roles.api, "api"},
-                                       {node.roles.slicer, "slicer"},
-                                       {node.roles.printers, "printers"}})
-          if (on) roles += (roles.empty() ? "" : ",") + std::string(name);
+        const std::string roles = role_list(node.roles);
         std::string out =
             "# HELP salient_node_info This salientd's farm node id and roles.\n# TYPE salient_node_info "
             "gauge\n"

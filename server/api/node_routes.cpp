@@ -24,14 +24,6 @@ json role_list(const std::string& roles) {  // "api,slicer" as ["api", "slicer"]
   return out;
 }
 
-std::string role_text(const NodeRoles& roles) {
-  std::string out;
-  for (const auto& [on, name] :
-       {std::pair{roles.api, "api"}, {roles.slicer, "slicer"}, {roles.printers, "printers"}})
-    if (on) out += (out.empty() ? "" : ",") + std::string(name);
-  return out;
-}
-
 json node_json(const FarmNode& n, const std::vector<std::string>& printers, double lease_seconds,
                const std::string& self) {
   return {{"id", n.id},
@@ -55,8 +47,9 @@ void add_node_routes(Router& router, Store& store, PrinterService& printers, con
                if (!farm) {  // no farm: this node, as it runs
                  std::vector<std::string> ids;
                  for (const auto& p : printers.all()) ids.push_back(p->id());
-                 nodes.push_back(node_json({self.id, role_text(self.roles), std::string(version()), 0, 0, 0},
-                                           ids, self.lease_seconds, self.id));
+                 nodes.push_back(node_json({self.id, "", std::string(version()), 0, 0, 0}, ids,
+                                           self.lease_seconds, self.id));
+                 nodes.back()["roles"] = role_names(self.roles);
                  nodes.back()["started_at"] = nullptr;
                } else {
                  FarmStore farm_store(store.db());

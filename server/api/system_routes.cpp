@@ -8,24 +8,12 @@
 
 namespace salient::server {
 
-namespace {
-
-nlohmann::json node_roles(const NodeRoles& roles) {
-  nlohmann::json out = nlohmann::json::array();
-  if (roles.api) out.push_back("api");
-  if (roles.slicer) out.push_back("slicer");
-  if (roles.printers) out.push_back("printers");
-  return out;
-}
-
-}  // namespace
-
 void add_system_routes(Router& router, Store& store, const NodeConfig& node,
                        std::function<void(const std::string&)> log) {
   // For load balancers and `salient doctor`: this node is up when its database answers. Open to
   // all, so the database's error (host names, users) goes to the log, not into the answer.
   router.add("GET", "/healthz", Access::open, [&store, node, log](const HttpRequest&, const PathParams&) {
-    nlohmann::json out{{"status", "ok"}, {"node", node.id}, {"roles", node_roles(node.roles)}};
+    nlohmann::json out{{"status", "ok"}, {"node", node.id}, {"roles", role_names(node.roles)}};
     const auto start = std::chrono::steady_clock::now();
     try {
       Database& db = store.db();

@@ -101,6 +101,20 @@ void read_node_settings(TableReader& r, NodeConfig& node, const std::string& sou
 
 }  // namespace
 
+std::vector<std::string> role_names(const NodeRoles& roles) {
+  std::vector<std::string> out;
+  for (const auto& [on, name] :
+       {std::pair{roles.api, "api"}, {roles.slicer, "slicer"}, {roles.printers, "printers"}})
+    if (on) out.emplace_back(name);
+  return out;
+}
+
+std::string role_list(const NodeRoles& roles) {
+  std::string out;
+  for (const std::string& name : role_names(roles)) out += (out.empty() ? "" : ",") + name;
+  return out;
+}
+
 std::string default_node_id() {
   char name[256] = {};
   if (gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "local";

@@ -47,6 +47,10 @@ struct NodeRoles {
   bool printers = true;
 };
 
+// The roles' names in order ("api", "slicer", "printers"), as config, logs and the API spell them.
+std::vector<std::string> role_names(const NodeRoles& roles);
+std::string role_list(const NodeRoles& roles);  // the same, comma-separated: "api,slicer"
+
 struct NodeConfig {
   std::string id;  // unique in the farm; empty: the host name
   NodeRoles roles;

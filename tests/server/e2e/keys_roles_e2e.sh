@@ -43,6 +43,14 @@ expect 403 "viewer uploads" -H "X-Api-Key: $viewer" -F "file=@a.gcode" "$base/ap
 expect 403 "viewer prints" -H "X-Api-Key: $viewer" -H "$json" -d '{"file":"a.gcode"}' "$base/api/v1/printers/sim/print"
 grep -q '"forbidden"' out.json || fail "403 body: $(cat out.json)"
 expect 403 "viewer submits" -H "X-Api-Key: $viewer" -F "file=@a.gcode" "$base/api/v1/jobs"
+# The nodes: a single salientd (SQLite) lists itself; there is no other node to forget.
+expect 200 "viewer GET /api/v1/nodes" -H "X-Api-Key: $viewer" "$base/api/v1/nodes"
+[ "$(eval_json "[(n['self'], n['live'], n['roles'], n['printers']) for n in d['nodes']]" < out.json)" = \
+  "[(True, True, ['api', 'slicer', 'printers'], ['sim'])]" ] || fail "GET /api/v1/nodes: $(cat out.json)"
+expect 403 "operator forgets a node" -H "X-Api-Key: $operator" -XDELETE "$base/api/v1/nodes/other"
+expect 404 "forgetting a node on a single salientd" -H "X-Api-Key: $admin" -XDELETE "$base/api/v1/nodes/other"
+node=$(curl -s "$base/healthz" | field "['node']")
+expect 409 "forgetting this node" -H "X-Api-Key: $admin" -XDELETE "$base/api/v1/nodes/$node"
 expect 403 "viewer starts /api/job" -H "X-Api-Key: $viewer" -H "$json" -d '{"command":"start"}' "$base/api/job"
 expect 403 "viewer makes a key" -H "X-Api-Key: $viewer" -H "$json" -d '{"user":"vic","role":"admin"}' "$base/api/v1/keys"
 
