@@ -171,9 +171,12 @@ wait_print finished
 # entries (its tick, then auto_start as each print ends), in order, exactly.
 code=$(api -o none.json -w '%{http_code}' -XPOST -d '{"file": "slow.gcode"}' "$base/api/v1/farm/no-such-profile/print")
 [ "$code" = 404 ] || fail "a profile no node has: $code $(cat none.json)"
+# f1 is slow (F100: ~8 s at the simulator's 20x) so that f2 and f3 still wait in the queue when
+# Y is asked for it; at F3000 all three could be printed before the question (seen under load).
 for n in 1 2 3; do
+  feed=$([ $n = 1 ] && echo 100 || echo 3000)
   python3 -c "
-for i in range(150): print(f'G1 X{20 + i % 40 + $n} Y{30 + $n} F3000')" > f$n.gcode
+for i in range(150): print(f'G1 X{20 + i % 40 + $n} Y{30 + $n} F$feed')" > f$n.gcode
   api -o /dev/null -F "file=@f$n.gcode;filename=f$n.gcode" "$base/api/files/local"
 done
 before=$(last_print "['id']")
