@@ -32,13 +32,14 @@ start b.toml node-b
 pid_b=$pid base_b=$base
 
 # watch BASE OUT: a client on BASE's events socket, subscribed to "jobs"; it writes OUT.ready once
-# subscribed, then every job event's (id, state), until OUT.stop exists and it has been quiet.
+# subscribed, then every job event's (id, state), until OUT.stop exists and it has seen "done" for
+# each job id OUT.stop names (or 20 s of quiet: the check below then says what is missing).
 watch() {
   /usr/bin/python3 - "$1" "$key" "$2" <<'PY' &
 import json, os, sys, time, websocket
 base, key, out = sys.argv[1:4]
 ws = websocket.create_connection(base.replace("http", "ws") + "/api/v1/events",
-                                 subprotocols=["salient.v1", "salient-key." + key], timeout=0.5)
+                                 subprotocols=["salient.v1", "salient-key." + key], timeout=30)
 ws.send(json.dumps({"subscribe": ["jobs"]}))
 seen = []
 while True:
@@ -46,14 +47,18 @@ while True:
     if m["type"] == "subscribed":
         break
 open(out + ".ready", "w").close()
+ws.settimeout(0.5)
 quiet_since = time.monotonic()
 deadline = time.monotonic() + 300
 while time.monotonic() < deadline:
     try:
         m = json.loads(ws.recv())
     except websocket.WebSocketTimeoutException:
-        if os.path.exists(out + ".stop") and time.monotonic() - quiet_since > 1.5:
-            break
+        if os.path.exists(out + ".stop"):
+            want = set(open(out + ".stop").read().split())
+            done = {i for i, s in seen if s == "done"}
+            if want <= done or time.monotonic() - quiet_since > 20:
+                break
         continue
     quiet_since = time.monotonic()
     if m["type"] == "job":
@@ -61,7 +66,7 @@ while time.monotonic() < deadline:
 json.dump(seen, open(out, "w"))
 PY
 }
-wait_ready() { for _ in $(seq 100); do [ -e "$1.ready" ] && return 0; sleep 0.1; done; fail "the client on $1 did not subscribe"; }
+wait_ready() { for _ in $(seq 600); do [ -e "$1.ready" ] && return 0; sleep 0.1; done; fail "the client on $1 did not subscribe"; }
 
 watch "$base_a" on-a.json
 watch_a=$!
@@ -79,7 +84,8 @@ base=$base_b wait_state "$id_b" done
 id_a=$(submit "$base_a" 21)
 [ "$id_a" != "$id_b" ] || fail "the second job is the first"
 base=$base_a wait_state "$id_a" done
-touch on-a.json.stop on-b.json.stop
+printf '%s\n' "$id_a" "$id_b" > ids.txt
+for o in on-a.json on-b.json; do cp ids.txt "$o.part" && mv "$o.part" "$o.stop"; done  # whole, never half-written
 wait "$watch_a" || fail "the client on node A failed"
 wait "$watch_b" || fail "the client on node B failed"
 

@@ -57,9 +57,11 @@ PY
   done < prints-$1.txt
   same_commands want-$1.gcode sim-$1-$2.log
 }
+# F120: ~4 s a print at the simulators' 50x, long enough that a and b are still busy with f1 and f2
+# while f3-f5 are sent (at F3000 a print took 0.2 s and a loaded machine saw a take f3 itself).
 for n in 1 2 3 4 5; do
   python3 -c "
-for i in range(200): print(f'G1 X{10 + i % 50 + $n} Y{10 + $n} F3000')" > f$n.gcode
+for i in range(200): print(f'G1 X{10 + i % 50 + $n} Y{10 + $n} F120')" > f$n.gcode
 done
 
 # 1. Five prints over two printers.

@@ -24,7 +24,7 @@ psql -X -q "$cluster/postgres" -c "DROP DATABASE IF EXISTS $name" -c "CREATE DAT
 database="$cluster/$name"
 
 for n in n1 n2; do
-  printf '[node]\nid = "%s"\nroles = ["api", "slicer"]\nlease_seconds = 2\nmax_attempts = 3\n' "$n" > "$n.toml"
+  printf '[node]\nid = "%s"\nroles = ["api", "slicer"]\nlease_seconds = 4\nmax_attempts = 3\n' "$n" > "$n.toml"
 done
 start n1.toml n1
 pid1=$pid base1=$base
@@ -73,9 +73,10 @@ reason=$(echo "$body" | field "['requeues'][0]['reason']")
 for id in "${small[@]}"; do
   [ "$(job "$survivor" "$id" | field "['attempts']")" = 1 ] || fail "job $id ran more than once"
 done
-for id in "$long" "${small[@]}"; do
-  n=$(grep -c "job id=$id state=done" daemon.log || true)
-  [ "$n" = 1 ] || fail "job $id was logged done $n times"
+logged_done_once() { [ "$(grep -c "job id=$1 state=done" daemon.log || true)" = 1 ]; }
+for id in "$long" "${small[@]}"; do  # logged just after the job's row is written: waited for
+  eventually 10 logged_done_once "$id" > /dev/null ||
+    fail "job $id was logged done $(grep -c "job id=$id state=done" daemon.log || true) times"
 done
 total=$(curl -s -H "X-Api-Key: $key" "$survivor/api/v1/jobs?state=done" | field "['total']")
 [ "$total" = 5 ] || fail "$total jobs done, expected 5"

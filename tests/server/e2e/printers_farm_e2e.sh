@@ -226,7 +226,8 @@ z_config z1
 "$salientd" --data zdata --config z.toml --listen 127.0.0.1:0 --database "$database" 2>>z.log &
 zpid=$!
 eventually 60 grep -q "no api role" z.log || fail "node Z did not start"
-for _ in $(seq 300); do [ "$(api "$base/api/v1/printers/z1" | field "['state']")" = operational ] && break; sleep 0.1; done
+for _ in $(seq 600); do [ "$(api "$base/api/v1/printers/z1" | field "['state']")" = operational ] && break; sleep 0.1; done
+[ "$(api "$base/api/v1/printers/z1" | field "['state']")" = operational ] || fail "z1 is not operational on Y's list"
 first_x=$(last_print "['id']")
 for n in 1 2 3 4 5 6; do
   python3 -c "

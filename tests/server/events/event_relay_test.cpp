@@ -301,7 +301,9 @@ TEST_CASE("a job finished on node A reaches node B's observers as remote, A's as
   b.relay.on_event([&](const RelayedEvent& e) {
     if (e.local) return;
     if (const auto job = finished_job(e)) {
-      std::this_thread::sleep_for(500ms);  // a slow observer (starting a print) delays no subscriber
+      // A slow observer (starting a print) delays no subscriber: long enough that a loaded
+      // machine (ASan, 2 cores) still delivers the three events while it sleeps.
+      std::this_thread::sleep_for(3s);
       std::lock_guard lock(mutex);
       finished_on_b.push_back(*job);
       slow_done = true;
@@ -319,7 +321,7 @@ TEST_CASE("a job finished on node A reaches node B's observers as remote, A's as
   a.hub.publish({"jobs", "job/j8"}, "job", R"({"id":"j8","state":"queued"})");
   REQUIRE(on_b.wait([](const auto& v) { return v.size() == 3; }));
   CHECK(!slow_done);  // the subscriber had all three while the observer still slept
-  for (int i = 0; i < 300 && !slow_done; ++i) std::this_thread::sleep_for(10ms);
+  for (int i = 0; i < 1000 && !slow_done; ++i) std::this_thread::sleep_for(10ms);
   std::lock_guard lock(mutex);
   CHECK(finished_on_b == std::vector<std::string>{"j7"});
   CHECK(local_on_a == std::vector<std::string>{"j7"});
@@ -381,7 +383,7 @@ TEST_CASE("terminal lines across nodes: a subscriber on B makes A's has_subscrib
   const salient::test::ScratchDir scratch("relay-interest");
   const DatabaseUrl url = salient::test::test_database(scratch);
   EventRelayOptions fast;
-  fast.interest_interval = 200ms;
+  fast.interest_interval = 500ms;  // interest lapses 3 intervals after the last announcement
   Node a("a", url, fast), b("b", url, fast);
   a.relay.start();
   b.relay.start();
@@ -400,12 +402,16 @@ TEST_CASE("terminal lines across nodes: a subscriber on B makes A's has_subscrib
   REQUIRE(on_b->wait([](const auto& v) { return v.size() == 1; }));
   CHECK(on_b->snapshot()[0]["data"]["line"] == "ok T:21");
   // Still wanted after several intervals (announced again), then not once B's client is gone.
-  std::this_thread::sleep_for(1s);
+  std::this_thread::sleep_for(2500ms);
   CHECK(a.hub.has_subscribers("terminal/p"));
   on_b->sub->closed();
   on_b.reset();
-  std::this_thread::sleep_for(1500ms);
-  CHECK(!a.hub.has_subscribers("terminal/p"));
+  bool gone = false;
+  for (int i = 0; i < 1000 && !gone; ++i) {
+    gone = !a.hub.has_subscribers("terminal/p");
+    if (!gone) std::this_thread::sleep_for(10ms);
+  }
+  CHECK(gone);
 }
 
 TEST_CASE("an event the database refuses (invalid UTF-8) is given up and blocks none behind it") {

@@ -72,8 +72,9 @@ TEST_CASE("two nodes on one PostgreSQL slice jobs submitted on either: each done
   const DatabaseUrl url = salient::test::test_database(scratch);
   Store store_a(scratch.path / "a", url), store_b(scratch.path / "b", url);
   Seen seen;
-  JobService a(store_a, node_options("a", 3), seen.recorder());
-  JobService b(store_b, node_options("b", 3), seen.recorder());
+  // Leases far longer than a renewal's delay on a loaded machine: no job may be reaped here.
+  JobService a(store_a, node_options("a", 10), seen.recorder());
+  JobService b(store_b, node_options("b", 10), seen.recorder());
   a.start();
   b.start();
   const std::string cube = model_bytes("cube_binary.ply");
@@ -85,9 +86,12 @@ TEST_CASE("two nodes on one PostgreSQL slice jobs submitted on either: each done
   JobStore jobs(store_a.db());
   REQUIRE(eventually([&] { return jobs.count(JobState::done) == 8; }));
   // A node tells a job's end just after it writes it: wait for the last one's event.
-  REQUIRE(eventually([&] {
-    return std::all_of(ids.begin(), ids.end(), [&](const std::string& id) { return seen.count(id + " done") > 0; });
-  }, 10));
+  REQUIRE(eventually(
+      [&] {
+        return std::all_of(ids.begin(), ids.end(),
+                           [&](const std::string& id) { return seen.count(id + " done") > 0; });
+      },
+      10));
   for (const std::string& id : ids) {
     const Job j = *jobs.get(id);
     CHECK(j.state == JobState::done);
