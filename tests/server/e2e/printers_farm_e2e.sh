@@ -80,10 +80,16 @@ start_x() {  # X serves no HTTP: it is up when it says so
   tail x.log; fail "node X did not start"
 }
 x1() { api "$base/api/v1/printers/x1" | field "$1"; }
-wait_x1() {  # wait_x1 STATE
-  for _ in $(seq 1200); do [ "$(x1 "['state']")" = "$1" ] && return 0; sleep 0.1; done
-  fail "x1 never $1 (is $(x1 "['state']"))"
+wait_printer() {  # wait_printer ID STATE: as Y lists it
+  local state
+  for _ in $(seq 1200); do
+    state=$(api "$base/api/v1/printers/$1" | field "['state']") || true  # not yet listed: try again
+    [ "$state" = "$2" ] && return 0
+    sleep 0.1
+  done
+  fail "$1 never $2 (is $state)"
 }
+wait_x1() { wait_printer x1 "$1"; }
 last_print() { api "$base/api/v1/printers/x1/prints" | field "['prints'][0]$1"; }
 wait_print() {  # wait_print STATE
   for _ in $(seq 1200); do [ "$(last_print "['state']")" = "$1" ] && return 0; sleep 0.1; done
@@ -226,8 +232,7 @@ z_config z1
 "$salientd" --data zdata --config z.toml --listen 127.0.0.1:0 --database "$database" 2>>z.log &
 zpid=$!
 eventually 60 grep -q "no api role" z.log || fail "node Z did not start"
-for _ in $(seq 600); do [ "$(api "$base/api/v1/printers/z1" | field "['state']")" = operational ] && break; sleep 0.1; done
-[ "$(api "$base/api/v1/printers/z1" | field "['state']")" = operational ] || fail "z1 is not operational on Y's list"
+wait_printer z1 operational
 first_x=$(last_print "['id']")
 for n in 1 2 3 4 5 6; do
   python3 -c "
