@@ -13,7 +13,8 @@
 namespace salient::server {
 
 // `bytes` random bytes from the kernel as URL-safe base64 without padding (Python's
-// secrets.token_urlsafe, which OctoPrint uses: 32 bytes make 43 characters).
+// secrets.token_urlsafe, which OctoPrint uses: 32 bytes make 43 characters), never starting with
+// '-' so that a command line takes it as an argument, not an option.
 std::string random_token(std::size_t bytes);
 
 class Sessions {

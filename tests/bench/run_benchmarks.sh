@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Runs every benchmark and the peer comparisons in one go; prints the figures BENCHMARKS.md
-# records. Usage: tests/bench/run_benchmarks.sh [BUILD_DIR] (after `make build`; peers need
+# records. Usage: tests/bench/run_benchmarks.sh [BUILD_DIR] (after `make bench` built them; peers need
 # `deploy/install-deps.sh --peers`).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
