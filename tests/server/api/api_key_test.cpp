@@ -61,7 +61,8 @@ TEST_CASE("the first start's key: 43 URL-safe characters, mode 0600, the admin's
   CHECK(rows[0].digest != first.key);
 }
 
-TEST_CASE("tokens are URL-safe base64 never starting with a dash so that a command line takes them as arguments") {
+TEST_CASE(
+    "tokens are URL-safe base64 never starting with a dash so that a command line takes them as arguments") {
   // 1 in 64 raw draws starts with '-': `salient keys approve -x…` failed as "token is required".
   std::set<std::string> seen;
   std::set<char> firsts;
