@@ -8,22 +8,23 @@ namespace salient::server {
 std::string random_token(std::size_t bytes) {
   static constexpr char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_";
   std::random_device rd;  // the kernel's entropy pool
-  std::string out;
-  // One token in 64 would start with '-', which a command line takes for an option (`salient keys
-  // approve -x…` failed with "token is required"): such a draw is thrown away (0.02 bits lost).
-  while (out.empty() || out.front() == '-') {
+  const auto draw = [&] {
     std::string raw(bytes, '\0');
     for (char& c : raw) c = static_cast<char>(rd() & 0xff);
-    out.clear();
+    std::string out;
     for (std::size_t i = 0; i < bytes; i += 3) {  // base64: 3 bytes -> 4 characters, no padding
       const std::size_t n = std::min<std::size_t>(3, bytes - i);
       unsigned v = 0;
       for (std::size_t k = 0; k < 3; ++k) v = v << 8 | (k < n ? static_cast<unsigned char>(raw[i + k]) : 0u);
       for (std::size_t k = 0; k < n + 1; ++k) out += alphabet[(v >> (18 - 6 * k)) & 63];
     }
-    if (bytes == 0) break;
-  }
-  return out;
+    return out;
+  };
+  // One draw in 64 starts with '-', which a command line takes for an option (`salient keys
+  // approve -x…` failed with "token is required"): such a draw is thrown away (0.02 bits lost).
+  std::string token = draw();
+  while (!token.empty() && token.front() == '-') token = draw();
+  return token;
 }
 
 std::string Sessions::open(const std::string& user) {

@@ -1,7 +1,7 @@
 #include "server/store/store.hpp"
 
-#include <map>
 #include <memory>
+#include <vector>
 
 #include "server/store/database_blobs.hpp"
 
@@ -26,10 +26,21 @@ Store::Store(const std::filesystem::path& data_dir, std::optional<DatabaseUrl> u
 }
 
 Database& Store::db() {
-  thread_local std::map<std::string, std::unique_ptr<Database>> connections;
-  auto& c = connections[url_.target];
-  if (!c) c = std::make_unique<Database>(url_);
-  return *c;
+  // One connection per thread and Store, keyed by the Store and not its URL: a Store made later on
+  // the same path (a test's next daemon, one after a restore) must not reuse a connection to a
+  // database file since deleted (it did, and saw the old rows). A dead Store's connections close
+  // at the thread's next call, or when the thread ends.
+  struct Connection {
+    const void* store;
+    std::weak_ptr<const char> alive;
+    std::unique_ptr<Database> db;
+  };
+  thread_local std::vector<Connection> connections;
+  std::erase_if(connections, [](const Connection& c) { return c.alive.expired(); });
+  for (Connection& c : connections)
+    if (c.store == alive_.get()) return *c.db;
+  auto db = std::make_unique<Database>(url_);
+  return *connections.emplace_back(Connection{alive_.get(), alive_, std::move(db)}).db;
 }
 
 std::size_t Store::remove_unreferenced(const std::vector<std::string>& digests) {

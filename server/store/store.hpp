@@ -5,6 +5,7 @@
 #pragma once
 
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -38,6 +39,8 @@ class Store {
  private:
   std::filesystem::path dir_;
   DatabaseUrl url_;
+  // Its threads' connections live while this does (see db()); before files_, which may use them.
+  std::shared_ptr<const char> alive_ = std::make_shared<const char>(0);
   FileStore files_;
   std::mutex files_mutex_;
 };

@@ -75,6 +75,28 @@ TEST_CASE("rows survive reopening, constraints hold, transactions roll back unle
   CHECK_FALSE(q.step());
 }
 
+TEST_CASE("a Store made again on a data directory removed meanwhile starts empty on the same thread") {
+  // Each thread's connections belong to the Store that opened them: a connection kept by path
+  // outlived its Store here, and the next Store read the deleted database through it.
+  const salient::test::ScratchDir scratch("store-again");
+  const auto jobs = [](Store& store) {
+    auto q = store.db().prepare("SELECT count(*) FROM jobs");
+    q.step();
+    return q.integer(0);
+  };
+  {
+    Store first(scratch.path);
+    first.db().exec(
+        "INSERT INTO jobs (id, state, filename, model_digest, settings, settings_digest, created_at) "
+        "VALUES ('j1', 'queued', 'bunny.obj', 'm', '{}', 's', 1.5)");
+    CHECK(jobs(first) == 1);
+  }
+  std::filesystem::remove_all(scratch.path);
+  Store second(scratch.path);
+  CHECK(jobs(second) == 0);
+  CHECK(std::filesystem::exists(scratch.path / "salient.db"));
+}
+
 TEST_CASE("a database from a newer salientd is refused with a reason, and bad SQL names itself") {
   const salient::test::ScratchDir scratch("newer");
   {
