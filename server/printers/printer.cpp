@@ -67,6 +67,25 @@ void Printer::notify(bool progress) const {
   if (hooks_.changed) hooks_.changed(*this, progress);
 }
 
+bool Printer::save_progress() {
+  std::lock_guard write(save_mutex_);
+  long long id = 0, confirmed = 0;
+  PrintState state = PrintState::printing;
+  PrintUsage usage;
+  {
+    std::lock_guard lock(mutex_);
+    if (!current_) return true;
+    id = current_->record.id, confirmed = current_->confirmed, usage = current_->usage();
+    if (state_ == PrinterState::paused) state = PrintState::paused;
+  }
+  try {
+    PrintStore(store_.db()).set_progress(id, state, confirmed, usage);  // only while not finished
+    return true;
+  } catch (const StoreError&) {
+    return false;
+  }
+}
+
 void Printer::conflict(const std::string& message) const {
   throw Conflict("printer_busy", "printer " + config_.id + " " + message);
 }
@@ -215,6 +234,9 @@ void Printer::pause() {
     enter(PrinterState::paused);
   }
   notify(false);
+  // Now, not with the next progress: a pause may confirm no further line (other nodes and a
+  // restart read the print's state from the store).
+  save_progress();
 }
 
 void Printer::resume() {
@@ -233,6 +255,7 @@ void Printer::resume() {
     enter(PrinterState::printing);
   }
   notify(false);
+  save_progress();
 }
 
 void Printer::cancel() {

@@ -119,6 +119,10 @@ class Printer {
   void refuse_unless_ready() const;  // under mutex_
   [[noreturn]] void conflict(const std::string& message) const;
   void notify(bool progress) const;
+  // The current print's state (printing or paused), confirmed lines and usage, written to the
+  // store now; false when the store refused (a full disk). Writes are serialized and each reads
+  // the state inside, so a progress write read before a pause cannot land after the pause's.
+  bool save_progress();
   // printer_thread.cpp: the printer's own thread.
   void run();
   void run_console(const std::vector<std::string>& lines, const EventFn& on_event);
@@ -138,6 +142,7 @@ class Printer {
   Hooks hooks_;
 
   mutable std::mutex mutex_;
+  std::mutex save_mutex_;  // one save_progress() at a time; taken before mutex_
   std::condition_variable wake_;
   std::thread thread_;
   bool stopping_ = false;

@@ -181,9 +181,6 @@ void Printer::close_link(PrinterState state, const std::string& error) {
 void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
   using Kind = LinkEvent::Kind;
   bool tell = false, save = false, finishing = false;
-  long long print_id = 0, confirmed = 0;
-  PrintState state = PrintState::printing;
-  PrintUsage usage;
   {
     std::lock_guard lock(mutex_);
     if (e.kind == Kind::temperatures) {
@@ -202,11 +199,8 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
         finishing = true;
       }
       // Saved at most every 20 ms: a kill -9 repeats at most that much of the print on resume.
-      if (Clock::now() - throttle.last_save >= std::chrono::milliseconds(20)) {
+      if (Clock::now() - throttle.last_save >= std::chrono::milliseconds(20))
         save = true, throttle.last_save = Clock::now();
-        print_id = current_->record.id, confirmed = current_->confirmed, usage = current_->usage();
-        state = state_ == PrinterState::paused ? PrintState::paused : PrintState::printing;
-      }
     }
   }
   if (finishing) notify(false);  // a change of state: never throttled
@@ -215,14 +209,9 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
     throttle.last_notify = Clock::now();
     notify(true);
   }
-  if (save && Clock::now() >= throttle.saves_paused_until) {
-    try {
-      PrintStore(store_.db()).set_progress(print_id, state, confirmed, usage);
-    } catch (const StoreError&) {
-      // A full disk must not stop the print: progress writes pause, and are tried again later.
-      throttle.saves_paused_until = Clock::now() + std::chrono::seconds(5);
-    }
-  }
+  // A full disk must not stop the print: progress writes pause, and are tried again later.
+  if (save && Clock::now() >= throttle.saves_paused_until && !save_progress())
+    throttle.saves_paused_until = Clock::now() + std::chrono::seconds(5);
 }
 
 PrintState Printer::print_outcome(const PrintResult& result, bool interrupted, bool cancelled) const {

@@ -147,6 +147,10 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 50; }));
   p.pause();
   CHECK(p.state() == PrinterState::paused);
+  // The store says so at once, not with the next confirmed line (a pause may confirm none): other
+  // nodes and a restart read it there.
+  const long long print_id = status(p)["print"]["id"];
+  CHECK(PrintStore(f.store.db()).get(print_id)->state == PrintState::paused);
   std::this_thread::sleep_for(500ms);  // what was in flight settles
   const long long held = status(p)["print"]["confirmed"];
   p.command({"M106 S255"});  // paused, a console line still goes (a fan, a temperature)
@@ -157,6 +161,7 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   CHECK(status(p)["print"]["layers"] == program.layers());
   CHECK(status(p)["print"]["layer"] == program[static_cast<std::size_t>(held)].layer + 1);
   p.resume();
+  CHECK(PrintStore(f.store.db()).get(print_id)->state == PrintState::printing);
   REQUIRE(eventually([&] { return status(p)["print"]["confirmed"] > held; }));
   p.command({"M117 asked before the cancel"});  // answered 204: it goes, ahead of the cleanup
   p.cancel();
