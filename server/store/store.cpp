@@ -27,8 +27,8 @@ Store::Store(const std::filesystem::path& data_dir, std::optional<DatabaseUrl> u
 
 Database& Store::db() {
   // One connection per thread and Store, keyed by the Store and not its URL: a Store made later on
-  // the same path (a test's next daemon, one after a restore) must not reuse a connection to a
-  // database file since deleted (it did, and saw the old rows). A dead Store's connections close
+  // the same path (a test's next daemon) must not reuse a connection to a database file since
+  // deleted (it did, and saw the old rows). A dead Store's connections close
   // at the thread's next call, or when the thread ends.
   struct Connection {
     const void* store;

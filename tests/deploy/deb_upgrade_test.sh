@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # An upgrade and a downgrade of the Debian package, with data. The previous version is the commit
 # FROM (an older database schema): the packaging did not exist then, so its salientd and
-# salient-sim are built from `git archive FROM` (those targets alone: the CLI, which the test does
-# not use, would add a fifth to a cold build) and put into today's package under FROM's version
-# number (0.1.0+git<commits>.<hash>, lower than today's). Then:
+# salient-sim are built from `git archive FROM` (those targets alone: the test never runs the CLI,
+# so the old package keeps today's `salient` rather than compile clients/ cold) and put into
+# today's package under FROM's version number (0.1.0+git<commits>.<hash>, lower than today's). Then:
 #   install it, add a printer to the config, slice and print a job with FROM's salientd;
 #   install today's package over it: the config keeps the printer, the database is migrated to
 #   today's schema, the job, its G-code, the print and the key are all there;
