@@ -53,7 +53,7 @@ run: build
 	@echo "  submit: curl -H \"X-Api-Key: \$$(cat var/api-key)\" -F file=@$(MODELS)/stanford-bunny.obj \\"
 	@echo "            -F 'settings={\"up\": \"y\", \"height\": 40, \"saliency\": \"spectral\"}' http://$(LISTEN)/api/v1/jobs"
 	@echo "  print:  curl -H \"X-Api-Key: \$$(cat var/api-key)\" -d '{\"job\": \"JOB_ID\"}' http://$(LISTEN)/api/v1/printers/sim/print"
-	@echo "  or:     $(BUILD)/clients/salient submit $(MODELS)/suzanne.obj --wait --print sim   (clients/curl/*.sh too)"
+	@echo "  or:     $(BUILD)/clients/salient submit $(MODELS)/stanford-bunny.obj --settings '{\"up\": \"y\", \"height\": 40}' --wait --print sim"
 	$(BUILD)/server/salientd --data var --listen $(LISTEN)
 
 test: build
