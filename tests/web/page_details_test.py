@@ -98,6 +98,7 @@ def files_and_queue(page, daemon):
     try:
         page.wait("the uploaded file on the page", lambda: "sliced-by-prusaslicer.gcode" in page.text("#file-list"), 10)
         expect(True, "an upload that does not print is listed on the Printers page")
+        page.screenshot("printers-files")
     except w.Failure:
         expect(False, "an upload that does not print is listed on the Printers page")
         return False
