@@ -1,7 +1,8 @@
-// #/printers: every configured printer at a glance; #/printers/ID: one printer to drive — its
-// state, temperatures (a live chart of the last half hour, targets settable), the print under
-// way with pause/resume/cancel/emergency stop, connect/disconnect, a terminal, and its history
-// with resume for an interrupted print.
+// #/printers: every configured printer at a glance and the uploaded files (files.js);
+// #/printers/ID: one printer to drive — its state, temperatures (a live chart of the last half
+// hour, targets settable), the print under way with pause/resume/cancel/emergency stop and its
+// queue (print_queue.js), connect/disconnect, a terminal, and its history with resume for an
+// interrupted print.
 import { api } from './api.js';
 import { h, fill, toast, act, badge, progressBar, celsius, duration, percent, when, confirmed, announce, whyNotLoaded } from './dom.js';
 import { filesCard } from './files.js';
