@@ -28,7 +28,8 @@ export const api = {
     onUnauthorized = fn;
   },
 
-  async request(method, path, { json, raw } = {}) {
+  // `base`: 'api' for OctoPrint's surface (its file area, where slicers upload).
+  async request(method, path, { json, raw, base = 'api/v1' } = {}) {
     const headers = { 'X-Api-Key': api.key() };
     let body;
     if (json !== undefined) {
@@ -37,7 +38,7 @@ export const api = {
     }
     let response;
     try {
-      response = await fetch('api/v1' + path, { method, headers, body, cache: 'no-store' });
+      response = await fetch(base + path, { method, headers, body, cache: 'no-store' });
     } catch (e) {
       throw new ApiError(0, 'unreachable', 'salientd cannot be reached: ' + e.message);
     }
@@ -154,13 +155,16 @@ export class Events {
     };
   }
 
-  // Events about a job go to "jobs" and "job/ID", about a printer to "printers" and "printer/ID":
-  // routed by what they are about, each listener hears each event once.
+  // Events about a job go to "jobs" and "job/ID", about a printer to "printers" and "printer/ID",
+  // a printer's queue to "printer/ID" (its listeners tell it by message.type), the file area to
+  // "files": routed by what they are about, each listener hears each event once.
   dispatch(message) {
     const { type, data } = message;
     let topics = [];
     if (type === 'job' && data) topics = ['jobs', 'job/' + data.id];
     else if (type === 'printer' && data) topics = ['printers', 'printer/' + data.id];
+    else if (type === 'queue' && data && data.printer) topics = ['printer/' + data.printer];
+    else if (type === 'files') topics = ['files'];
     else if (type === 'terminal') topics = [message.topic];
     else if (type === 'error') console.warn('events:', data);
     for (const topic of topics)

@@ -111,8 +111,12 @@ async function signIn(e, input, error, button) {
     startSession();
   } catch (err) {
     api.clearKey();
+    // A typed key that is refused is unknown (mistyped or revoked): the API's words for a request
+    // without one ("a key is required") would mislead.
     error.textContent =
-      err.status === 401 ? `The server refused this key: ${err.message}` : `Cannot sign in: ${err.message}`;
+      err.status === 401
+        ? 'The server refused this key: it is not one salientd knows (mistyped, or revoked). Check it against the api-key file in salientd’s data directory.'
+        : `Cannot sign in: ${err.message}`;
     input.select();
   } finally {
     signingIn = false;

@@ -83,13 +83,16 @@ export function minutes(seconds) {
   return `${m < 0 ? '−' : ''}${hours} h ${Math.round(Math.abs(m) - hours * 60)} min`;
 }
 
+// A span of time in words with its units ("42 s", "7 min 06 s", "1 h 07 min"): "7:06" left a
+// printer owner guessing between minutes and hours.
 export function duration(seconds) {
   if (seconds === null || seconds === undefined || !isFinite(seconds)) return '–';
   const s = Math.max(0, Math.round(seconds));
-  const hh = Math.floor(s / 3600);
-  const mm = String(Math.floor(s / 60) % 60).padStart(2, '0');
-  const ss = String(s % 60).padStart(2, '0');
-  return hh ? `${hh}:${mm}:${ss}` : `${Math.floor(s / 60)}:${ss}`;
+  const two = (n) => String(n).padStart(2, '0');
+  if (s < 60) return `${s} s`;
+  if (s < 3600) return `${Math.floor(s / 60)} min ${two(s % 60)} s`;
+  const m = Math.round(s / 60);
+  return `${Math.floor(m / 60)} h ${two(m % 60)} min`;
 }
 
 export function percent(fraction, digits = 0) {

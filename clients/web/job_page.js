@@ -34,7 +34,7 @@ export async function jobView(main, id, { events, navigate }) {
     if (shownState) announce(`${j.filename}: ${j.state}`);
     shownState = j.state;
     if (j.state === 'done' && j.result) {
-      fill(body, summary(j), actions(j, navigate));
+      fill(body, summary(j), warnings(j.result), actions(j, navigate));
       science = showScience(body, j);
     } else if (j.state === 'running' || j.state === 'queued') {
       fill(body, h('div', { class: 'actions' }, cancelButton(j)));
@@ -95,6 +95,18 @@ function summary(j) {
     fig('Filament', `${(r.filament_mm / 1000).toFixed(2)} m`, null, 'fig-filament'),
     r.segmentation ? fig('SegOpt', r.segmentation.cut ? 'cut' : 'not cut', r.segmentation.note, 'fig-segopt') : null,
     r.orientation ? fig('Orientation', String(r.orientation.up ?? JSON.stringify(r.orientation))) : null,
+  );
+}
+
+// What the slicer wants the owner to know about the result ({code, message} each), when it says.
+function warnings(r) {
+  const list = Array.isArray(r.warnings) ? r.warnings.filter((w) => w && w.message) : [];
+  if (!list.length) return null;
+  return h(
+    'section',
+    { class: 'card warnings', id: 'job-warnings', 'aria-label': 'Warnings' },
+    h('h2', {}, 'Warnings'),
+    h('ul', {}, list.map((w) => h('li', { dataset: { code: String(w.code || '') } }, String(w.message)))),
   );
 }
 

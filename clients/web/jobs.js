@@ -151,7 +151,6 @@ function settingsForm(profiles) {
     { class: 'settings' },
     field('Printer profile', printer),
     h('div', { class: 'field' }, h('label', { for: 's-target' }, 'Plan to'), h('div', { class: 'pair' }, target, amount)),
-    field('Height (mm)', height, 'scale the model to it'),
     field('Orientation', up),
     field('Saliency', saliency),
     h(
@@ -161,13 +160,12 @@ function settingsForm(profiles) {
       h('label', {}, support, ' Support under overhangs'),
     ),
   );
-  // On a phone the settings fold away (the defaults serve), so the job list shows beneath.
-  const fields = h(
-    'details',
-    { class: 'settings-box', open: window.matchMedia('(min-width: 600px)').matches },
-    h('summary', {}, 'Settings'),
-    grid,
-  );
+  // On a phone the settings fold away (the defaults serve), so the job list shows beneath; the
+  // model's height stays in sight: a model in metres or inches needs it on every screen.
+  const fields = [
+    h('div', { class: 'settings height-row' }, field('Model height (mm)', height, 'scale the model to it')),
+    h('details', { class: 'settings-box', open: window.matchMedia('(min-width: 600px)').matches }, h('summary', {}, 'Settings'), grid),
+  ];
   const settings = () => {
     const s = { printer: printer.value, up: up.value, saliency: saliency.value };
     const n = Number(amount.value);

@@ -1,13 +1,18 @@
-// #/printers: every configured printer at a glance; #/printers/ID: one printer to drive — its
-// state, temperatures (a live chart of the last half hour, targets settable), the print under
-// way with pause/resume/cancel/emergency stop, connect/disconnect, a terminal, and its history
-// with resume for an interrupted print.
+// #/printers: every configured printer at a glance and the uploaded files (files.js);
+// #/printers/ID: one printer to drive — its state, temperatures (a live chart of the last half
+// hour, targets settable), the print under way with pause/resume/cancel/emergency stop and its
+// queue (print_queue.js), connect/disconnect, a terminal, and its history with resume for an
+// interrupted print.
 import { api } from './api.js';
 import { h, fill, toast, act, badge, progressBar, celsius, duration, percent, when, confirmed, announce, whyNotLoaded } from './dom.js';
+import { filesCard } from './files.js';
+import { printQueue } from './print_queue.js';
 
-export async function printersView(main, { events }) {
+export async function printersView(main, context) {
+  const { events } = context;
   const grid = h('div', { class: 'printers', id: 'printer-list' });
-  fill(main, h('h1', {}, 'Printers'), grid);
+  const files = filesCard(events, context);
+  fill(main, h('h1', {}, 'Printers'), grid, files.section);
   const cards = new Map();
   const show = (p) => {
     const card = h(
@@ -23,7 +28,8 @@ export async function printersView(main, { events }) {
     else grid.append(card);
     cards.set(p.id, card);
   };
-  const off = events.on('printers', show);
+  const offPrinters = events.on('printers', show);
+  const off = () => (offPrinters(), files.off());
   try {
     const { printers } = await api.get('/printers');
     printers.forEach(show);
@@ -47,8 +53,10 @@ export async function printerView(main, id, { events }) {
   const current = h('section', { class: 'card', id: 'current-print', 'aria-label': 'Current print' });
   const temps = h('section', { class: 'card', 'aria-label': 'Temperatures' });
   const terminal = h('section', { class: 'card', 'aria-label': 'Terminal' });
+  const queueSection = h('section', { class: 'queue-box' });
   const history = h('section', { class: 'card', 'aria-label': 'Print history' });
   fill(main, h('p', {}, h('a', { href: '#/printers' }, '← All printers')), head, h('div', { class: 'printer-grid' }, current, temps, terminal, history));
+  const queue = printQueue(queueSection, path);
 
   const controls = temperatureControls(path);
   const chartBox = h('div', { class: 'chart-box' }, h('p', { class: 'muted' }, 'Loading the temperatures…'));
@@ -68,20 +76,28 @@ export async function printerView(main, id, { events }) {
       if (shown) announce(`${p.id}: ${p.state}`);
       shown = key;
       fill(head, h('h1', {}, p.id, ' ', badge(p.state)), h('p', { class: 'muted' }, details(p)), p.error ? h('p', { class: 'error', role: 'alert' }, p.error) : null, connection(p, path));
-      fill(current, ...printView(p, path));
+      fill(current, ...printView(p, path), queueSection);
     } else if (p.print) {
       updatePrint(current, p.print);
+    }
+    queue.idle(p.state === 'operational' && !p.print);
+    // The row of the print under way follows the card: the stored row is saved only now and then.
+    if (p.print) {
+      const done = history.querySelector(`tr[data-print="${p.print.id}"] .done`);
+      if (done) done.textContent = percent(p.print.progress, 1);
     }
     temps.querySelector('#temp-now').textContent = `Hotend ${celsius(p.temperatures.hotend)} · bed ${celsius(p.temperatures.bed)}`;
     if (chart && message) chart.add(message.time, p.temperatures);
     if (message) window.salientMetrics.eventLatencies.push(performance.timeOrigin + performance.now() - message.time * 1000);
     if (p.state !== lastState) {
       lastState = p.state;
-      refreshHistory(history, path);
+      refreshHistory(history, path, () => printer.print);
     }
   };
   update(printer);
-  const offPrinter = events.on('printer/' + id, update);
+  const offPrinter = events.on('printer/' + id, (data, message) =>
+    message && message.type === 'queue' ? queue.show(data) : update(data, message),
+  );
   const offTerminal = terminalView(terminal, id, path, events);
   return () => {
     offPrinter();
@@ -256,17 +272,19 @@ function terminalView(section, id, path, events) {
   };
 }
 
-async function refreshHistory(section, path) {
+// `live()`: the print under way, whose row shows its live progress rather than the stored one.
+async function refreshHistory(section, path, live) {
   try {
     const { prints } = await api.get(path + '/prints');
+    const now = live();
     const rows = prints.slice(0, 20).map((p) =>
       h(
         'tr',
-        {},
-        h('td', {}, p.file),
+        { dataset: { print: String(p.id) } },
+        h('td', { class: 'history-file' }, p.file),
         h('td', {}, badge(p.state)),
-        h('td', {}, p.total ? percent(p.confirmed / p.total, 1) : '–'),
-        h('td', {}, when(p.started_at)),
+        h('td', { class: 'done' }, now && now.id === p.id ? percent(now.progress, 1) : p.total ? percent(p.confirmed / p.total, 1) : '–'),
+        h('td', { class: 'history-started' }, when(p.started_at)),
         h('td', {}, p.reason || ''),
         h('td', {}, resumable(p) ? h('button', { type: 'button', class: 'quiet', onclick: (e) => act(e.currentTarget, () => api.post(path + '/print', { resume: p.id })) }, 'Resume') : ''),
       ),

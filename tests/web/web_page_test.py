@@ -210,7 +210,7 @@ def sign_in(page, key):
     page.find("form.sign-in button[type=submit]").click()
     page.wait("the refusal", lambda: "refused" in page.text("#sign-in-error"))
     message = page.text("#sign-in-error")
-    check("an API key is required" in message, f"the refusal is not in the API's words: {message!r}")
+    check("not one salientd knows" in message, f"a wrong key is not refused as one: {message!r}")
     log(f"a wrong key is refused: {message!r}")
     page.find("#api-key").clear()
     page.find("#api-key").send_keys(key)
