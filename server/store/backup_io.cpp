@@ -92,9 +92,17 @@ void write_all(int fd, const fs::path& p, const char* data, std::size_t size) {
 // Streams `source` into a new `dest` (fsynced), hashing on the way; the hex digest, or nullopt
 // when the source does not exist.
 std::optional<std::string> copy_hashing(const fs::path& source, const fs::path& dest, mode_t mode) {
-  const int in = ::open(source.c_str(), O_RDONLY | O_CLOEXEC);
+  // Never through a link, never a FIFO or device: a backup or restore run as root copies only
+  // the plain file that is there (O_NONBLOCK: opening a FIFO does not wait for a writer).
+  const int in = ::open(source.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK);
   if (in < 0 && errno == ENOENT) return std::nullopt;
+  if (in < 0 && errno == ELOOP) throw StoreError(source.string() + " is a symbolic link: refused");
   if (in < 0) fail_errno(source, "", errno);
+  struct stat st {};
+  if (::fstat(in, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(in);
+    throw StoreError(source.string() + " is not a regular file: refused");
+  }
   const int out = ::open(dest.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, mode);
   if (out < 0) {
     const int err = errno;
@@ -233,7 +241,7 @@ std::string file_sha256(const fs::path& file) {
 
 void copy_plain(const fs::path& source, const fs::path& dest) {
   struct stat st {};
-  if (::stat(source.c_str(), &st) != 0) fail_errno(source, "", errno);
+  if (::lstat(source.c_str(), &st) != 0) fail_errno(source, "", errno);
   if (!copy_hashing(source, dest, st.st_mode & 07777)) fail_errno(source, "", ENOENT);
 }
 

@@ -61,12 +61,28 @@ std::vector<fs::path> contents(const fs::path& data_dir, const fs::path& stage) 
   return out;
 }
 
+// A backup holds plain files and directories only. A link would make the restore (run as root)
+// copy whatever it points at, /etc/shadow say, into the data directory for the daemon's user.
+void check_plain_tree(const fs::path& src) {
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(src)) {
+    const fs::file_status st = e.symlink_status();
+    if (fs::is_symlink(st))
+      throw StoreError(e.path().string() + " is a symbolic link: a backup holds only plain files, refused");
+    if (!fs::is_regular_file(st) && !fs::is_directory(st))
+      throw StoreError(e.path().string() +
+                       " is not a regular file: a backup holds only plain files, refused");
+  }
+}
+
 }  // namespace
 
 BackupSummary verify_backup(const fs::path& src) {
+  std::error_code ec;
+  if (!fs::is_directory(src, ec))
+    throw StoreError(src.string() + " is not a salientd backup (not a directory)");
+  check_plain_tree(src);  // before anything in it is read
   check_manifest(src);
   const fs::path db = src / database_name;
-  std::error_code ec;
   if (!fs::is_regular_file(db, ec)) throw StoreError(src.string() + ": the backup has no " + database_name);
   std::string check;
   try {

@@ -1,6 +1,7 @@
 #include "server/store/backup.hpp"
 
 #include <doctest/doctest.h>
+#include <sys/stat.h>
 
 #include <fstream>
 
@@ -118,4 +119,39 @@ TEST_CASE("restore: refuses what is not a backup, a damaged one, a busy or non-e
   std::ofstream(b / "salient.db", std::ios::trunc) << std::string(8192, 'x');
   CHECK(message_of([&] { verify_backup(b); }).find("damaged") != std::string::npos);
   CHECK(!fs::exists(fresh));  // verified before anything is written
+}
+
+TEST_CASE("restore: refuses a backup holding a symbolic link or anything but plain files and directories") {
+  Data data("backup-data-4");
+  salient::test::ScratchDir out("backup-links");
+  fs::create_directories(out.path);
+  const fs::path secret = out.path / "secret";
+  std::ofstream(secret) << "root:$6$not-for-the-daemon\n";
+
+  // The api-key a link to a file outside (as /etc/shadow, restored by root): refused, nothing copied.
+  const fs::path b = out.path / "b";
+  backup_data_dir(data.dir.path, b);
+  fs::remove(b / "api-key");
+  fs::create_symlink(secret, b / "api-key");
+  const fs::path target = out.path / "target";
+  const std::string linked = message_of([&] { restore_data_dir(b, target, false); });
+  CHECK(linked.find("api-key") != std::string::npos);
+  CHECK(linked.find("symbolic link") != std::string::npos);
+  CHECK(!fs::exists(target / "api-key"));
+  CHECK(!fs::exists(target / "salient.db"));
+
+  // A stored file's directory a link (its file then read through it): refused too.
+  const fs::path c = out.path / "c";
+  backup_data_dir(data.dir.path, c);
+  const fs::path shard = object(c, data.a).parent_path();
+  fs::rename(shard, out.path / "elsewhere");
+  fs::create_directory_symlink(out.path / "elsewhere", shard);
+  CHECK(message_of([&] { verify_backup(c); }).find("symbolic link") != std::string::npos);
+
+  // A named pipe among the files: refused, not read (a read would block).
+  const fs::path d = out.path / "d";
+  backup_data_dir(data.dir.path, d);
+  fs::remove(d / "api-key");
+  REQUIRE(::mkfifo((d / "api-key").c_str(), 0600) == 0);
+  CHECK(message_of([&] { verify_backup(d); }).find("not a regular file") != std::string::npos);
 }
