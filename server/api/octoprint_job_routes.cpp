@@ -100,13 +100,17 @@ HttpResponse job_command(const OctoContext& ctx, const HttpRequest& r) {
   } else if (command == "cancel") {
     printer.cancel();
   } else if (command == "pause") {
+    // As OctoPrint documents it: pausing a paused print or resuming a printing one does nothing
+    // (204); only without a print is it a conflict (409, from pause() or resume()).
     const std::string action = string_field(body, "action", "toggle");
-    if (action == "pause" || (action == "toggle" && printer.state() == PrinterState::printing))
-      printer.pause();
-    else if (action == "resume" || action == "toggle")
-      printer.resume();
-    else
+    if (action != "pause" && action != "resume" && action != "toggle")
       throw ApiError(400, "bad_request", "'action' must be pause, resume or toggle");
+    const PrinterState state = printer.state();
+    if (action == "pause" || (action == "toggle" && state == PrinterState::printing)) {
+      if (state != PrinterState::paused) printer.pause();
+    } else if (action == "toggle" || state != PrinterState::printing) {
+      printer.resume();
+    }
   } else {
     throw ApiError(400, "bad_request", "'command' must be start, restart, cancel or pause");
   }

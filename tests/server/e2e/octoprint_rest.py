@@ -362,6 +362,9 @@ def phase_busy():
     error_status("POST", "/api/job", 409, {"command": "restart"}, words="paused")
     js("POST", "/api/job", 204, {"command": "pause", "action": "pause"})
     eventually(lambda: js("GET", "/api/job", 200)["state"] == "Paused", 30, "paused")
+    # OctoPrint's docs: pausing a paused print does nothing (204), it was 409 here (issue 32, item 8).
+    js("POST", "/api/job", 204, {"command": "pause", "action": "pause"})
+    assert js("GET", "/api/job", 200)["state"] == "Paused"
     js("POST", "/api/job", 204, {"command": "restart"})
     again = eventually(lambda: js("GET", "/api/v1/printers/sim", 200)["print"], 30, "a print again")
     assert again["id"] != first and again["file"] == "farm/long.gcode" and again["state"] == "printing", again
