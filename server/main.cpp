@@ -160,11 +160,16 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   const ApiKey key = ensure_api_key(store);
   if (key.created)
     log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
+  Sessions sessions;  // before the keys, whose refresher closes sessions until it stops
   ApiKeys keys(store);
   EventHub hub;
   std::unique_ptr<EventRelay> relay;  // PostgreSQL only: set once the printers exist
   OctoState octo;
-  Sessions sessions;
+  // A revoked key ends the sessions opened with it (the push socket then asks to log in again).
+  keys.on_revoked([&sessions](long long id) { sessions.close_key(id); });
+  // In a farm another node may make or revoke a key: every node reads them again 4 times a second.
+  if (store.database_url().dialect == Dialect::postgresql)
+    keys.start_refresh(std::chrono::milliseconds(250), log_line);
   PushHub push(sessions, store, octo,
                log_line);  // OctoPrint's push socket: sees the printers through their hooks
   // A farm (several nodes on one PostgreSQL): this node's printers are registered for the others

@@ -39,7 +39,7 @@ function jobRow(job) {
         (r.times ? ` · saves ${signed(r.times.saving_vs_default_percent, 0)} % vs uniform` : '')
       : job.state === 'failed'
         ? job.error || 'failed'
-        : `${job.phase === 'none' ? 'waiting' : job.phase} · ${percent(job.progress)}`;
+        : `${job.state === 'running' ? job.phase : job.state === 'queued' ? 'waiting' : job.state} · ${percent(job.progress)}`;
   return h(
     'li',
     { class: 'job', dataset: { id: job.id, state: job.state } },

@@ -4,6 +4,8 @@
 #include <charconv>
 #include <cstdio>
 
+#include "protocol/gcode/command_code.hpp"
+
 namespace salient::protocol::marlin {
 namespace {
 
@@ -41,6 +43,18 @@ std::string strip_comment(std::string_view line) {
   return std::string(trim(out));
 }
 
+std::string numbering_command(std::string_view command) {
+  // Marlin's GCodeQueue takes a line as numbered when it starts "N" and a digit or a sign.
+  if (command.size() > 1 && (command[0] == 'N' || command[0] == 'n') &&
+      ((command[1] >= '0' && command[1] <= '9') || command[1] == '-'))
+    return "a line number (" + std::string(command.substr(0, command.find(' '))) +
+           "): salientd numbers every line it sends itself; remove the number";
+  if (const auto code = command_code(command); code && code->letter == 'M' && code->number == 110)
+    return "M110 resets the line numbers, which salientd keeps itself (the printer would ask for the "
+           "file again from the start); remove it";
+  return {};
+}
+
 std::string unsendable(std::string_view command) {
   if (command.size() > kMaxCommandBytes)
     return "a command of " + std::to_string(command.size()) + " bytes (the firmware takes " +
@@ -55,7 +69,7 @@ std::string unsendable(std::string_view command) {
              " (not printable ASCII: is it G-code?)";
     }
   }
-  return {};
+  return numbering_command(command);
 }
 
 std::optional<Unsendable> find_unsendable(const std::vector<std::string>& lines) {

@@ -29,8 +29,14 @@ std::string frame(std::uint64_t number, std::string_view command);
 // fails its checksum at every resend and stalls the print. 80 leaves room for "N9999999 " and "*255".
 inline constexpr std::size_t kMaxCommandBytes = 80;
 
+// Why `command` (comment stripped) would take over the line numbering the host keeps: a line
+// number of its own ("N12 G1 …") or M110. Sent mid-print, M110 N0 makes the firmware ask for
+// line 1 again and the host replays the file from there, forever. Empty: it does not.
+std::string numbering_command(std::string_view command);
+
 // Why `command` (comment stripped) cannot go over the wire: too long, or a byte that is not
-// printable ASCII (NUL, binary, UTF-8), or '*' (it would end the line's checksum). Empty: it can.
+// printable ASCII (NUL, binary, UTF-8), or '*' (it would end the line's checksum), or a numbering
+// command (above). Empty: it can.
 std::string unsendable(std::string_view command);
 
 struct Unsendable {

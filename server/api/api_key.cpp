@@ -3,10 +3,13 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <unordered_set>
 
 #include "server/api/sessions.hpp"
 #include "server/common/domain_error.hpp"
+#include "server/http/router.hpp"
 #include "server/store/sha256.hpp"
 #include "server/store/user_store.hpp"
 
@@ -59,12 +62,89 @@ ApiKeys::ApiKeys(Store& store) : store_(store) {
   load();
 }
 
+ApiKeys::~ApiKeys() {
+  stop_refresh();
+}
+
 void ApiKeys::load() {
+  std::lock_guard serial(load_);
   std::unordered_map<std::string, Principal> fresh;
-  for (const KeyRow& row : UserStore(store_.db()).keys())
+  std::unordered_set<long long> ids;
+  for (const KeyRow& row : UserStore(store_.db()).keys()) {
     fresh[row.digest] = {row.user, role_from(row.role).value_or(Role::viewer), row.id};
-  std::unique_lock lock(mutex_);
-  by_digest_ = std::move(fresh);
+    ids.insert(row.id);
+  }
+  std::vector<long long> removed;
+  {
+    std::unique_lock lock(mutex_);
+    for (const auto& [digest, p] : by_digest_)
+      if (!ids.count(p.key_id)) removed.push_back(p.key_id);
+    by_digest_ = std::move(fresh);
+  }
+  if (on_revoked_)
+    for (const long long id : removed) on_revoked_(id);
+  // Told outside the map's lock: a watch may ask about keys.
+  std::vector<std::shared_ptr<KeyWatch>> gone;
+  {
+    std::lock_guard lock(watches_mutex_);
+    std::erase_if(watches_, [&](const std::weak_ptr<KeyWatch>& weak) {
+      const auto w = weak.lock();
+      if (!w) return true;
+      if (ids.count(w->key_id)) return false;
+      gone.push_back(w);
+      return true;
+    });
+  }
+  for (const auto& w : gone)
+    if (w->revoked) w->revoked();
+}
+
+void ApiKeys::refresh() {
+  load();
+}
+
+void ApiKeys::watch(const std::shared_ptr<KeyWatch>& w) {
+  {
+    std::shared_lock lock(mutex_);
+    const bool known = std::any_of(by_digest_.begin(), by_digest_.end(),
+                                   [&](const auto& entry) { return entry.second.key_id == w->key_id; });
+    if (known) {
+      std::lock_guard watches(watches_mutex_);
+      watches_.push_back(w);
+      return;
+    }
+  }
+  if (w->revoked) w->revoked();  // revoked between its check and now
+}
+
+void ApiKeys::start_refresh(std::chrono::milliseconds every, std::function<void(const std::string&)> log) {
+  stop_refresh();
+  refresh_stop_ = false;
+  refresher_ = std::thread([this, every, log = std::move(log)] {
+    bool failing = false;
+    std::unique_lock lock(refresh_mutex_);
+    while (!refresh_wake_.wait_for(lock, every, [this] { return refresh_stop_; })) {
+      lock.unlock();
+      try {
+        load();
+        if (failing && log) log("keys: read again from the database");
+        failing = false;
+      } catch (const std::exception& e) {  // the database away: the keys known stay
+        if (!failing && log) log(std::string("keys: cannot read them from the database: ") + e.what());
+        failing = true;
+      }
+      lock.lock();
+    }
+  });
+}
+
+void ApiKeys::stop_refresh() {
+  {
+    std::lock_guard lock(refresh_mutex_);
+    refresh_stop_ = true;
+  }
+  refresh_wake_.notify_all();
+  if (refresher_.joinable()) refresher_.join();
 }
 
 std::optional<Principal> ApiKeys::authenticate(const HttpRequest& request) const {
@@ -127,6 +207,12 @@ KeyInfo ApiKeys::revoke(long long id) {
   t.commit();
   load();
   return info_of(*row);
+}
+
+void ApiKeys::confirm(const Principal& who) const {
+  if (who.key_id == 0) return;  // a session or a test's principal: checked where it was made
+  if (!UserStore(store_.db()).key(who.key_id))
+    throw ApiError(401, "unauthorized", "this API key was revoked: use another");
 }
 
 std::vector<KeyInfo> ApiKeys::list() const {

@@ -1,5 +1,7 @@
 #include "server/api/app_key_requests.hpp"
 
+#include <arpa/inet.h>
+
 #include <algorithm>
 
 #include "server/api/sessions.hpp"
@@ -14,6 +16,17 @@ constexpr std::size_t kMaxAsked = 1024;
 
 bool matches(const AppKeyRequest& r, const std::string& token) {
   return r.app_token == token || r.user_token == token;
+}
+
+// The network an address is in: its /24 (IPv4, also when mapped into IPv6) or /64; anything else
+// (a name) is its own.
+std::string network_of(const std::string& address) {
+  unsigned char b[16];
+  if (::inet_pton(AF_INET, address.c_str(), b) == 1) return std::string(reinterpret_cast<char*>(b), 3);
+  if (::inet_pton(AF_INET6, address.c_str(), b) != 1) return address;
+  static constexpr unsigned char mapped[12] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0xff, 0xff};
+  if (std::equal(b, b + 12, mapped)) return std::string(reinterpret_cast<char*>(b) + 12, 3);
+  return "6" + std::string(reinterpret_cast<char*>(b), 8);
 }
 
 }  // namespace
@@ -35,11 +48,28 @@ AppKeyRequest AppKeyRequests::open(const std::string& app, const std::string& us
   if (minute >= kPerMinute || hour >= kPerHour)
     throw TooBusy("too_many_requests", "too many key requests from " + remote + ": try again later",
                   minute >= kPerMinute ? 60 : 600);
-  const auto waiting =
-      std::count_if(requests_.begin(), requests_.end(), [](const auto& r) { return !r.decided; });
-  if (static_cast<std::size_t>(waiting) >= kMaxPending)
+  const std::string network = network_of(remote);
+  std::size_t waiting = 0, from_address = 0, from_network = 0;
+  for (const AppKeyRequest& r : requests_) {
+    if (r.decided) continue;
+    ++waiting;
+    from_address += r.remote == remote ? 1 : 0;
+    from_network += network_of(r.remote) == network ? 1 : 0;
+  }
+  const auto retry = static_cast<int>(kPollTimeout);
+  if (from_address >= kPerAddress)
+    throw TooBusy("too_many_requests",
+                  remote + " has " + std::to_string(from_address) +
+                      " key requests waiting for a decision already: decide those first",
+                  retry);
+  if (from_network >= kPerNetwork)
+    throw TooBusy(
+        "too_many_requests",
+        "too many key requests from " + remote + "'s network are waiting for a decision: try again later",
+        retry);
+  if (waiting >= kMaxPending)
     throw TooBusy("too_many_requests", "too many key requests are waiting for a decision: try again later",
-                  60);
+                  retry);
   if (asked_.size() >= kMaxAsked) asked_.pop_front();
   asked_.emplace_back(remote, now);
   AppKeyRequest r;

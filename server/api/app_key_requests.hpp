@@ -1,9 +1,11 @@
 // AppKeyRequests: OctoPrint's application-key workflow (its appkeys plugin). An app asks for a
 // key without one (POST /plugin/appkeys/request) and polls with its app token; a person with an
 // admin key sees the request (by its user token) and approves or denies it; the app's next poll
-// gets the key. In memory, as OctoPrint keeps them; bounded, since anyone may ask: at most
-// kMaxPending requests wait, each address may ask 3 times a minute and 10 times an hour, a
-// request lives 10 minutes (OctoPrint's cutoff) and goes sooner if its app stops polling.
+// gets the key. In memory, as OctoPrint keeps them; bounded, since anyone may ask: each address
+// may ask 3 times a minute and 10 times an hour and have 2 requests waiting, one network (a /24,
+// an IPv6 /64) 8, all together 64; so a few addresses cannot take every slot and leave the next
+// app 429. A request lives 10 minutes (OctoPrint's cutoff) and goes after 20 s without a poll
+// (apps poll every second or so).
 // Time is passed in (steady seconds), so that tests need not wait.
 #pragma once
 
@@ -31,12 +33,14 @@ struct AppKeyRequest {
 
 class AppKeyRequests {
  public:
-  static constexpr std::size_t kMaxPending = 16;
+  static constexpr std::size_t kMaxPending = 64;
+  static constexpr std::size_t kPerAddress = 2, kPerNetwork = 8;  // waiting at once
   static constexpr double kLifetime = 600;    // seconds a request (or an unfetched approval) lives
-  static constexpr double kPollTimeout = 60;  // seconds without a poll before a request goes
+  static constexpr double kPollTimeout = 20;  // seconds without a poll before a request goes
   static constexpr std::size_t kPerMinute = 3, kPerHour = 10;
 
-  // The new request's app token and user token; TooBusy when full or when `remote` asks too often.
+  // The new request's app token and user token; TooBusy when full, when `remote` (or its network)
+  // has its share waiting, or when it asks too often.
   AppKeyRequest open(const std::string& app, const std::string& user, const std::string& remote, double now);
 
   enum class Poll { pending, approved, unknown };

@@ -83,6 +83,7 @@ std::optional<bool> decision_of(const json& body) {
 // key management).
 HttpResponse decide(ApiKeys& keys, AppKeyRequests& requests, const HttpRequest& r, const std::string& token,
                     bool octoprint) {
+  keys.confirm(caller_of(r));  // an approval mints a key
   const json body = parse_json_body(r, kMaxBody, kMaxDepth);
   const std::optional<bool> approve = decision_of(body);
   if (!approve) throw ApiError(400, "bad_request", "no decision provided: {\"decision\": true|false}");
@@ -111,7 +112,7 @@ void add_login_routes(Router& router, Sessions& sessions) {
   router.add("POST", "/api/login", Access::viewer, [&sessions](const HttpRequest& r, const PathParams&) {
     const Principal& who = caller_of(r);
     return json_response(200, {{"name", who.user},
-                               {"session", sessions.open(who.user)},
+                               {"session", sessions.open(who.user, who.key_id)},
                                {"active", true},
                                {"admin", who.role == Role::admin},
                                {"user", true},
@@ -143,6 +144,7 @@ void add_key_routes(Router& router, ApiKeys& keys, Sessions& sessions) {
         {{"keys", list}, {"you", {{"user", who.user}, {"role", to_string(who.role)}, {"key", who.key_id}}}});
   });
   router.add("POST", "/api/v1/keys", Access::admin, [&keys](const HttpRequest& r, const PathParams&) {
+    keys.confirm(caller_of(r));
     const json body = parse_json_body(r, kMaxBody, kMaxDepth);
     const std::string user = string_field(body, "user", "");
     if (user.empty())
@@ -166,6 +168,7 @@ void add_key_routes(Router& router, ApiKeys& keys, Sessions& sessions) {
                const auto key = keys.find(id);
                if (!key || (who.role != Role::admin && key->user != who.user))
                  throw NotFound("no key " + text);
+               keys.confirm(who);
                const KeyInfo gone = keys.revoke(id);
                if (!keys.has_keys(gone.user)) sessions.close_user(gone.user);
                return json_response(200, {{"revoked", key_json(gone)}});

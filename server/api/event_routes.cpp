@@ -1,5 +1,6 @@
 // The WebSocket /api/v1/events: who may connect, what a new subscriber sees first, and how job
 // changes become events.
+#include <atomic>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -42,14 +43,53 @@ OfferedProtocols offered_protocols(const HttpRequest& r) {
   return out;
 }
 
+// A subscription that ends with its key: revoked on any node, the connection is closed (1008,
+// saying why) at once, instead of streaming on to whoever holds the old key.
+class KeyedChannel : public WebSocketChannel {
+ public:
+  explicit KeyedChannel(std::shared_ptr<WebSocketChannel> inner) : inner_(std::move(inner)) {}
+  void open(std::function<void()> wake) override {
+    {
+      std::lock_guard lock(mutex_);
+      wake_ = wake;
+    }
+    inner_->open(std::move(wake));
+  }
+  void receive(const std::string& text) override { inner_->receive(text); }
+  std::optional<std::string> next() override { return revoked_ ? std::nullopt : inner_->next(); }
+  std::string close_reason() override {
+    return revoked_ ? "the API key was revoked: connect again with a valid key" : inner_->close_reason();
+  }
+  void closed() override { inner_->closed(); }
+  void hold(std::shared_ptr<KeyWatch> watch) { watch_ = std::move(watch); }
+  void revoke() {
+    revoked_ = true;
+    std::function<void()> wake;
+    {
+      std::lock_guard lock(mutex_);
+      wake = wake_;
+    }
+    if (wake) wake();  // not open yet: pump() sees the flag when it is
+  }
+
+ private:
+  std::shared_ptr<WebSocketChannel> inner_;
+  std::atomic<bool> revoked_{false};
+  std::mutex mutex_;
+  std::function<void()> wake_;
+  std::shared_ptr<KeyWatch> watch_;
+};
+
 }  // namespace
 
-WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
+WebSocketAcceptor events_endpoint(EventHub& hub, ApiKeys& keys) {
   return [&hub, &keys](const HttpRequest& r) -> WebSocketAccept {
     if (r.path != "/api/v1/events")
       return {nullptr, error_response(404, "not_found", "no WebSocket at " + r.path)};
     const OfferedProtocols offered = offered_protocols(r);
-    if (!keys.valid(r) && !keys.valid_key(offered.key))
+    std::optional<Principal> who = keys.authenticate(r);
+    if (!who) who = keys.principal(offered.key);
+    if (!who)
       return {nullptr, error_response(401, "unauthorized",
                                       "send the API key (X-Api-Key, Authorization: Bearer, the subprotocol "
                                       "salient-key.KEY, or ?apikey=)")};
@@ -66,7 +106,16 @@ WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys) {
         }
       }
     }
-    return {subscription, {}, offered.chosen};
+    auto channel = std::make_shared<KeyedChannel>(subscription);
+    // The watch lives as long as the connection: the channel holds it.
+    auto watch = std::make_shared<KeyWatch>();
+    watch->key_id = who->key_id;
+    watch->revoked = [weak = std::weak_ptr<KeyedChannel>(channel)] {
+      if (const auto c = weak.lock()) c->revoke();
+    };
+    channel->hold(watch);
+    keys.watch(watch);
+    return {channel, {}, offered.chosen};
   };
 }
 

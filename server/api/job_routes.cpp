@@ -1,3 +1,4 @@
+#include <filesystem>
 #include <nlohmann/json.hpp>
 
 #include "core/common/input_error.hpp"
@@ -41,7 +42,13 @@ HttpResponse artefact(Store& store, const std::string& id, const char* key, cons
   const json r = json::parse(*j.result);
   if (!r.contains(key))  // a job finished by an older salientd, before this artefact existed
     throw ApiError(404, "not_found", "job " + id + " has no " + std::string(key) + ": submit it again");
-  HttpResponse out = HttpResponse::text(200, store.files().read(r.at(key).get<std::string>()), type);
+  const std::string digest = r.at(key).get<std::string>();
+  const std::filesystem::path path = store.files().path_of(digest);
+  std::error_code size_error;
+  const std::uintmax_t size = std::filesystem::file_size(path, size_error);
+  if (size_error) throw StoreError("no stored file " + digest);  // as read() says it
+  // Streamed from disk: a G-code file may be hundreds of MB, and a client may read it slowly.
+  HttpResponse out = HttpResponse::from_file(200, {path, 0, size}, type);
   std::string stem = j.filename.substr(0, j.filename.find_last_of('.'));
   out.headers.emplace_back("Content-Disposition", "attachment; filename=\"" + stem + suffix + "\"");
   return out;
@@ -157,7 +164,7 @@ void add_job_routes(Router& router, Store& store, JobService& jobs, PrinterServi
   });
   // A job that has not finished is cancelled; a finished one is removed.
   router.add("DELETE", "/api/v1/jobs/{id}", Access::key,
-             [&store, &jobs](const HttpRequest&, const PathParams& p) {
+             [&store, &jobs, &printers](const HttpRequest&, const PathParams& p) {
                const Job j = job_or_404(store, p.at("id"));
                if (!finished(j.state)) {
                  jobs.cancel(j.id);
@@ -172,6 +179,9 @@ void add_job_routes(Router& router, Store& store, JobService& jobs, PrinterServi
                      digests.push_back(r.at(key).get<std::string>());
                }
                JobStore(store.db()).remove(j.id);
+               // Queue entries waiting to print it go with it (as those of a failed job do), in
+               // every queue: listed, they would be dropped only when their turn found it gone.
+               printers.job_finished(j.id);
                store.remove_unreferenced(digests);
                return HttpResponse::text(204, "");
              });

@@ -2,6 +2,7 @@
 // slicers use it: uploads into folders, folder creation, nested listings, select (and print or
 // queue), move, copy, delete, and downloads with a Range. Paths are checked (octoprint_files.hpp)
 // before anything is looked up; every change is published on the hub's "files" topic.
+#include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
 
@@ -152,20 +153,23 @@ HttpResponse download(const OctoContext& ctx, const HttpRequest& r, const PathPa
   const std::string path = checked_path(p.at("path"), "path", false);
   const auto f = PrintStore(ctx.store.db()).file(path);
   if (!f) throw ApiError(404, "not_found", "no file '" + path + "'");
-  std::string body = ctx.store.files().read(f->digest);
-  const std::size_t size = body.size();
+  const std::filesystem::path file = ctx.store.files().path_of(f->digest);
+  std::error_code size_error;
+  const std::uintmax_t size = std::filesystem::file_size(file, size_error);
+  if (size_error) throw StoreError("no stored file " + f->digest);  // as read() says it
   const RangeAnswer range = parse_range(r.header("range"), size);
   HttpResponse out;
+  // Streamed from disk, a chunk at a time as the client reads (HttpResponse::file).
   if (range.kind == RangeAnswer::Kind::unsatisfiable) {
     out = error_response(416, "range_not_satisfiable",
                          "the file has " + std::to_string(size) + " bytes: the Range asks for none of them");
     out.headers.emplace_back("Content-Range", "bytes */" + std::to_string(size));
   } else if (range.kind == RangeAnswer::Kind::partial) {
-    out = HttpResponse::text(206, body.substr(range.first, range.last - range.first + 1), "text/x.gcode");
+    out = HttpResponse::from_file(206, {file, range.first, range.last - range.first + 1}, "text/x.gcode");
     out.headers.emplace_back("Content-Range", "bytes " + std::to_string(range.first) + "-" +
                                                   std::to_string(range.last) + "/" + std::to_string(size));
   } else {
-    out = HttpResponse::text(200, std::move(body), "text/x.gcode");
+    out = HttpResponse::from_file(200, {file, 0, size}, "text/x.gcode");
   }
   out.headers.emplace_back("Accept-Ranges", "bytes");
   return out;
@@ -213,8 +217,11 @@ void add_octoprint_file_routes(Router& router, const OctoContext& ctx) {
     throw ApiError(400, "bad_request", "no file to upload ('file' part with a filename) and no 'foldername'");
   });
   const auto list_files = [ctx](const HttpRequest& r, const PathParams&) {
-    return json_response(
-        200, {{"files", listing(ctx, r, "", recursive_query(r))}, {"free", nullptr}, {"total", nullptr}});
+    // free and total: bytes on the file system the uploads are kept on (farm managers show them).
+    const auto space = ctx.store.files().space();
+    return json_response(200, {{"files", listing(ctx, r, "", recursive_query(r))},
+                               {"free", space ? json(space->available) : json(nullptr)},
+                               {"total", space ? json(space->capacity) : json(nullptr)}});
   };
   router.add("GET", "/api/files", Access::key, list_files);
   router.add("GET", "/api/files/local", Access::key, list_files);

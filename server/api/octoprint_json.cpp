@@ -190,16 +190,12 @@ json temperature_json(const PrinterStatus& s, const std::map<std::string, double
 }
 
 json temperature_history_json(const std::vector<TemperatureSample>& samples, std::size_t limit) {
-  const auto one = [](const Temperature& t) {
-    return json{{"actual", t.actual ? json(*t.actual) : json(nullptr)},
-                {"target", t.target ? json(*t.target) : json(nullptr)}};
-  };
+  std::vector<const TemperatureSample*> kept;
+  for (const TemperatureSample& s : samples)
+    if (has_reading(s)) kept.push_back(&s);
   json out = json::array();
-  const std::size_t from = samples.size() > limit ? samples.size() - limit : 0;
-  for (std::size_t i = from; i < samples.size(); ++i)
-    out.push_back({{"time", static_cast<long long>(samples[i].time)},
-                   {"tool0", one(samples[i].hotend)},
-                   {"bed", one(samples[i].bed)}});
+  for (std::size_t i = kept.size() > limit ? kept.size() - limit : 0; i < kept.size(); ++i)
+    out.push_back(temperature_sample_json(*kept[i]));
   return out;
 }
 
@@ -222,6 +218,10 @@ json temperature_sample_json(const TemperatureSample& sample) {
   };
   return {
       {"time", static_cast<long long>(sample.time)}, {"tool0", one(sample.hotend)}, {"bed", one(sample.bed)}};
+}
+
+bool has_reading(const TemperatureSample& sample) {
+  return sample.hotend.actual || sample.bed.actual;
 }
 
 json print_job_json(const PrinterStatus& s, const std::string& selected,

@@ -57,6 +57,9 @@ nlohmann::json state_json(const PrinterStatus& s);
 nlohmann::json temperature_json(const PrinterStatus& s);
 // One entry of the push socket's `temps`: {time (s, whole), tool0{actual, target}, bed{…}}.
 nlohmann::json temperature_sample_json(const TemperatureSample& sample);
+// Whether a sample holds a reading: OctoPrint's histories have none without (our page's chart
+// keeps those as its gaps: a printer connecting or disconnected).
+bool has_reading(const TemperatureSample& sample);
 // The job document (GET /api/job's and the push socket's `job`): the print under way, or else the
 // selected file (`file`: its row when stored; `analysis`: its gcodeAnalysis, or null).
 nlohmann::json print_job_json(const PrinterStatus& s, const std::string& selected,
@@ -66,7 +69,7 @@ nlohmann::json print_job_json(const PrinterStatus& s, const std::string& selecte
 nlohmann::json progress_json(const PrinterStatus& s);
 // The same with the offsets set through the API.
 nlohmann::json temperature_json(const PrinterStatus& s, const std::map<std::string, double>& offsets);
-// OctoPrint's temperature history: the last `limit` samples, oldest first, as
+// OctoPrint's temperature history: the last `limit` samples with a reading, oldest first, as
 // [{time (s), tool0{actual, target}, bed{actual, target}}].
 nlohmann::json temperature_history_json(const std::vector<TemperatureSample>& samples, std::size_t limit);
 // A folder as OctoPrint lists it: {name, display, path, type: "folder", typePath, origin, refs}.

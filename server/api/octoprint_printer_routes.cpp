@@ -178,7 +178,8 @@ void add_octoprint_printer_routes(Router& router, const OctoContext& ctx) {
     return json_response(200, printer_state(ctx, r));
   });
   router.add("POST", "/api/printer/command", Access::key, [ctx](const HttpRequest& r, const PathParams&) {
-    default_printer(ctx.printers).command(parse_commands(parse_json_body(r, ctx.max_json, ctx.depth)));
+    // As OctoPrint's: any command, a move during a print too ("should be used with some care").
+    default_printer(ctx.printers).command(parse_commands(parse_json_body(r, ctx.max_json, ctx.depth)), true);
     return HttpResponse::text(204, "");
   });
   router.add("GET", "/api/printer/command/custom", Access::key, [](const HttpRequest&, const PathParams&) {

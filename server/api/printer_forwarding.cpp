@@ -121,21 +121,32 @@ HttpResponse PrinterFarm::carry(const HttpRequest& request, const FarmPrinter& p
     } catch (const StoreError&) {  // the request is in the table: the executor's poll finds it
     }
   }
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::duration<double>(options_.timeout_seconds);
-  auto wait = std::chrono::milliseconds(2);
-  while (std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(wait);
-    wait = std::min(wait * 2, std::chrono::milliseconds(25));
-    if (auto answer = farm.answer_of(id)) return from_answer(*answer);
-  }
-  // Cancelled unless answered just now: a pending request then never runs.
-  if (!farm.cancel(id))
-    if (auto answer = farm.answer_of(id)) return from_answer(*answer);
+  const auto wait_for_answer = [&](double seconds) -> std::optional<PrinterAnswer> {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+    auto wait = std::chrono::milliseconds(2);
+    while (std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(wait);
+      wait = std::min(wait * 2, std::chrono::milliseconds(25));
+      if (auto answer = farm.answer_of(id)) return answer;
+    }
+    return std::nullopt;
+  };
+  if (auto answer = wait_for_answer(options_.timeout_seconds)) return from_answer(*answer);
+  const std::string who = "node '" + printer.node + "' (printer " + printer.id + ")";
+  const std::string waited = std::to_string(static_cast<int>(options_.timeout_seconds)) + " s";
+  // Cancelled while still pending: then it never runs, and "nothing was done" is true.
+  if (farm.cancel(id))
+    return error_response(
+        504, "node_timeout",
+        who + " did not take the request within " + waited + "; it was withdrawn: nothing was done");
+  // Taken: the node is running it (a print that starts slowly), so its answer is the truth; it
+  // gets as long again before the caller is told it may still happen.
+  if (auto answer = farm.answer_of(id)) return from_answer(*answer);
+  if (auto answer = wait_for_answer(options_.timeout_seconds)) return from_answer(*answer);
   return error_response(504, "node_timeout",
-                        "node '" + printer.node + "' (printer " + printer.id + ") did not answer within " +
-                            std::to_string(static_cast<int>(options_.timeout_seconds)) +
-                            " s; nothing was done");
+                        who + " took the request but did not answer within " +
+                            std::to_string(static_cast<int>(2 * options_.timeout_seconds)) +
+                            " s; it may still be carried out: look at the printer before trying again");
 }
 
 PrinterRequestExecutor::PrinterRequestExecutor(Store& store, const Router& router, std::string node)

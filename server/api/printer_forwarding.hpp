@@ -1,8 +1,9 @@
 // Printers across nodes (a farm on one PostgreSQL). PrinterFarm is the API node's side: the other
 // nodes' printers from the registry (FarmStore), and a request for one of them carried through
 // the database to the node that owns it (a row in printer_requests), its answer awaited: 503
-// when that node is dead (its heartbeat older than the lease), 504 when it does not answer in
-// time (the request is then cancelled: it never runs late). PrinterRequestExecutor is the owning
+// when that node is dead (its heartbeat older than the lease), 504 when it does not take it in
+// time (the request is then withdrawn: it never runs late); a request it took but answers slowly
+// is awaited as long again, then 504 saying it may still happen. PrinterRequestExecutor is the owning
 // node's side: it takes the requests for this node (woken by a NOTIFY from the API node; polling
 // an index every kIdlePoll in case one is lost, every kPoll on SQLite) and runs each
 // through this node's Router as the caller it names, who was authenticated where it came in.
@@ -26,7 +27,7 @@ class PrinterFarm {
   struct Options {
     std::string node;
     double lease_seconds = 15;
-    double timeout_seconds = 10;              // for a forwarded request's answer
+    double timeout_seconds = 10;              // for a forwarded request to be answered (or taken)
     std::size_t max_body_bytes = 256u << 10;  // a forwarded body (G-code goes through the files routes)
     // Handlers run on the HTTP server's threads, and a forwarded request holds one while it waits:
     // beyond this many waiting at once, 503 with Retry-After, so that a frozen node cannot take

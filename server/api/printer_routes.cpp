@@ -156,6 +156,9 @@ std::vector<std::string> parse_commands(const json& body) {
     const std::string command = protocol::marlin::strip_comment(line);
     if (command.empty())
       throw ApiError(400, "bad_request", "each command must be a G-code command, not empty or a comment");
+    // Well-formed but not the console's to send: 422, as a file holding it is refused.
+    if (std::string why = protocol::marlin::numbering_command(command); !why.empty())
+      throw ApiError(422, "host_command", "command '" + command.substr(0, 40) + "' cannot be sent: " + why);
     if (std::string why = protocol::marlin::unsendable(command); !why.empty())
       throw ApiError(400, "bad_request", "command '" + command.substr(0, 40) + "' cannot be sent: " + why);
     out.push_back(command);
@@ -278,8 +281,15 @@ void add_printer_routes(Router& router, PrinterService& printers, Store& store, 
   router.add("POST", "/api/v1/printers/{id}/command", Access::key,
              on_printer(printers, farm, [&printers, &config](const HttpRequest& r, const PathParams& p) {
                Printer& printer = printers.get(p.at("id"));
-               printer.command(parse_commands(parse_json_body(
-                   r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth))));
+               const json body =
+                   parse_json_body(r, config.max_json_bytes, static_cast<std::size_t>(config.max_json_depth));
+               bool force = false;
+               if (body.is_object() && body.contains("force")) {
+                 if (!body.at("force").is_boolean())
+                   throw ApiError(400, "bad_request", "'force' must be true or false");
+                 force = body.at("force").get<bool>();
+               }
+               printer.command(parse_commands(body), force);
                return status(202, printer);
              }));
 }

@@ -147,9 +147,13 @@ void PushChannel::event(const std::string& type, const std::string& payload) {
 }
 
 bool PushChannel::due_locked(Clock::time_point now) const {
-  if (!queue_.empty()) return true;
+  const auto waited = [&](std::chrono::milliseconds interval) {
+    return !sent_current_ || now - last_current_ >= interval;
+  };
+  // A change of state waits its 500 ms too (OctoPrint sends at most two a second): late, never lost.
+  if (!queue_.empty()) return !queue_.front().current || waited(limits_.base_interval);
   if (!latest_ || !user_ || !subscription_.state) return false;
-  return !sent_current_ || now - last_current_ >= limits_.base_interval * throttle_;
+  return waited(limits_.base_interval * throttle_);
 }
 
 bool PushChannel::due() const {
@@ -200,6 +204,7 @@ std::optional<std::string> PushChannel::next() {
   std::lock_guard lock(mutex_);
   if (closed_ || !overflow_.empty()) return std::nullopt;
   const Clock::time_point now = clock_();
+  if (!due_locked(now)) return std::nullopt;
   if (!queue_.empty()) {
     Item item = std::move(queue_.front());
     queue_.pop_front();
@@ -209,7 +214,6 @@ std::optional<std::string> PushChannel::next() {
     sent_current_ = true;
     return compose_current(*item.current);
   }
-  if (!due_locked(now)) return std::nullopt;
   std::shared_ptr<const std::string> current = std::move(latest_);
   latest_.reset();
   last_current_ = now;

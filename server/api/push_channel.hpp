@@ -6,9 +6,11 @@
 //
 // Delivery. A `current` that carries a change of state (printing → finishing, → cancelling…) is
 // queued and always sent, in order, whatever the throttle: FDM Monster ends a print only when it
-// sees `finishing` or `cancelling`, which may last milliseconds. Other updates are coalesced: the
-// newest replaces an unsent one and goes out when the throttle allows. The queue is bounded (count
-// and bytes); a client that lets it fill is closed with a reason rather than grow the server.
+// sees `finishing` or `cancelling`, which may last milliseconds. Still no two `current`s go out
+// less than 500 ms apart (OctoPrint's rate, which clients rely on): a change waits its turn, and
+// what was queued behind it (events) with it. Other updates are coalesced: the newest replaces an
+// unsent one and goes out when the throttle allows (500 ms × throttle). The queue is bounded
+// (count and bytes); a client that lets it fill is closed with a reason rather than grow the server.
 //
 // Threading: the hub calls state_changed/progress/event from its thread; the WebSocket session
 // calls receive/next from its strand; all under mutex_. Time comes from `clock` (tests step it).

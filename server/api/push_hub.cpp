@@ -316,7 +316,8 @@ std::string PushHub::temps_json(PushCursor& cursor, std::size_t limit) const {
   std::string out = "[";
   if (!printers || !printers->first()) return out + "]";
   const double now = now_seconds();
-  const std::vector<TemperatureSample> all = printers->temperatures(printers->first()->id()).samples(now);
+  std::vector<TemperatureSample> all = printers->temperatures(printers->first()->id()).samples(now);
+  std::erase_if(all, [](const TemperatureSample& t) { return !has_reading(t); });
   auto from =
       std::find_if(all.begin(), all.end(), [&](const auto& t) { return t.time > cursor.temps_after; });
   if (static_cast<std::size_t>(all.end() - from) > limit)

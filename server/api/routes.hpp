@@ -55,7 +55,7 @@ void add_metrics_route(Router& router, const Metrics& metrics, Store& store, Pri
 
 // The WebSocket /api/v1/events (keyed; ?topics=a,b subscribes at once), and 426 for a plain GET.
 void add_event_route(Router& router);
-WebSocketAcceptor events_endpoint(EventHub& hub, const ApiKeys& keys);
+WebSocketAcceptor events_endpoint(EventHub& hub, ApiKeys& keys);
 // What a new subscriber to a topic sees first: the job's or printers' current state.
 class PrinterFarm;
 // `farm` (a farm's API node): other nodes' printers are in the snapshots too.

@@ -27,11 +27,11 @@ std::string random_token(std::size_t bytes) {
   return token;
 }
 
-std::string Sessions::open(const std::string& user) {
+std::string Sessions::open(const std::string& user, long long key_id) {
   std::string session = random_token(24);
   std::lock_guard lock(mutex_);
   if (entries_.size() >= kMax) entries_.pop_front();
-  entries_.push_back({session, user});
+  entries_.push_back({session, user, key_id});
   return session;
 }
 
@@ -53,6 +53,11 @@ std::optional<std::string> Sessions::user_of_auth(std::string_view auth) const {
 void Sessions::close_user(const std::string& user) {
   std::lock_guard lock(mutex_);
   std::erase_if(entries_, [&](const Entry& e) { return e.user == user; });
+}
+
+void Sessions::close_key(long long key_id) {
+  std::lock_guard lock(mutex_);
+  std::erase_if(entries_, [&](const Entry& e) { return e.key_id == key_id; });
 }
 
 }  // namespace salient::server

@@ -20,17 +20,20 @@ std::string random_token(std::size_t bytes);
 class Sessions {
  public:
   static constexpr std::size_t kMax = 4096;
-  // A new session for `user` (a user name), returned to the client.
-  std::string open(const std::string& user);
+  // A new session for `user` (a user name), opened with key `key_id`, returned to the client.
+  std::string open(const std::string& user, long long key_id = 0);
   // The user a "name:session" string (the push socket's auth) or a session belongs to.
   std::optional<std::string> user_of_auth(std::string_view auth) const;
   std::optional<std::string> user_of(std::string_view session) const;
   // Forget every session of `user` (a revoked key, a deleted user).
   void close_user(const std::string& user);
+  // Forget the sessions opened with key `key_id` (revoked), though its user may hold another.
+  void close_key(long long key_id);
 
  private:
   struct Entry {
     std::string session, user;
+    long long key_id = 0;
   };
   mutable std::mutex mutex_;
   std::deque<Entry> entries_;

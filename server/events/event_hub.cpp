@@ -31,16 +31,24 @@ bool EventHub::valid_topic(const std::string& topic) {
 
 std::string EventHub::message(const std::string& topic, const std::string& type,
                               const std::string& data_json) {
+  return message_at(topic, type, data_json, now_seconds());
+}
+
+double EventHub::now_seconds() {
   const double now =
       std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  return std::round(now * 1000) / 1000;
+}
+
+std::string EventHub::message_at(const std::string& topic, const std::string& type,
+                                 const std::string& data_json, double time) {
   std::string out = "{\"type\":";
   out += json_text(nlohmann::json(type));
-  if (!topic.empty()) {
-    out += ",\"topic\":";
-    out += json_text(nlohmann::json(topic));
-  }
+  // Every message has the same four fields: a reply about the connection has a null topic.
+  out += ",\"topic\":";
+  out += topic.empty() ? "null" : json_text(nlohmann::json(topic));
   out += ",\"time\":";
-  out += json_text(nlohmann::json(std::round(now * 1000) / 1000));
+  out += json_text(nlohmann::json(time));
   out += ",\"data\":";
   out += data_json.empty() ? "null" : data_json;
   out += '}';
@@ -67,10 +75,14 @@ void EventHub::deliver(const std::vector<std::string>& topics, const std::string
     std::lock_guard lock(mutex_);
     targets = subscribers_;
   }
-  if (targets.empty()) return;
-  const std::string text = message(topics.empty() ? std::string() : topics.back(), type, data_json);
+  if (targets.empty() || topics.empty()) return;
+  // One text per topic: each subscriber gets the event under a topic it asked for.
+  const double at = now_seconds();
+  std::vector<std::string> texts;
+  texts.reserve(topics.size());
+  for (const std::string& topic : topics) texts.push_back(message_at(topic, type, data_json, at));
   for (const auto& s : targets)
-    if (auto wake = s->offer(topics, text, delivery)) wake();
+    if (auto wake = s->offer(topics, texts, delivery)) wake();
 }
 
 void EventHub::resync(const std::string& reason) {
@@ -236,13 +248,21 @@ void Subscription::receive(const std::string& text) {
   push_reply(EventHub::message("", "subscribed", json_text(nlohmann::json{{"topics", topics}})));
 }
 
-std::function<void()> Subscription::offer(const std::vector<std::string>& topics, const std::string& text,
-                                          Delivery delivery) {
+std::function<void()> Subscription::offer(const std::vector<std::string>& topics,
+                                          const std::vector<std::string>& texts, Delivery delivery) {
   std::lock_guard lock(mutex_);
   if (closed_ || !overflow_.empty() || topics.empty()) return {};
-  if (std::none_of(topics.begin(), topics.end(), [&](const std::string& t) { return topics_.count(t) > 0; }))
-    return {};
+  // Under the subject if this client asked for it, else under the first topic it asked for.
   const std::string& subject = topics.back();
+  std::size_t label = topics.size() - 1;
+  if (!topics_.count(subject)) {
+    label =
+        static_cast<std::size_t>(std::find_if(topics.begin(), topics.end(),
+                                              [&](const std::string& t) { return topics_.count(t) > 0; }) -
+                                 topics.begin());
+    if (label == topics.size()) return {};
+  }
+  const std::string& text = texts[label];
   const bool was_empty = head_ == queue_.size();
   if (delivery != Delivery::always) {
     // The newest undelivered event about the same subject: a progress update is replaced by this

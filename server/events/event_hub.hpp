@@ -67,8 +67,9 @@ class Subscription : public WebSocketChannel {
     std::string text, subject;  // subject: the topic it is about ("job/ID"), for coalescing
     Delivery delivery = Delivery::always;
   };
-  // Queues an event; returns the wake function to call (empty: no need).
-  std::function<void()> offer(const std::vector<std::string>& topics, const std::string& text,
+  // Queues an event, `texts[i]` being its message under `topics[i]`; returns the wake function
+  // to call (empty: no need).
+  std::function<void()> offer(const std::vector<std::string>& topics, const std::vector<std::string>& texts,
                               Delivery delivery);
   void push_reply(std::string text);
   // Queues a message that must not be dropped (a state change, a snapshot, a reply); past the
@@ -106,8 +107,9 @@ class EventHub {
   // Every topic some subscriber here has.
   std::set<std::string> topics() const;
 
-  // `topics`: every topic the event belongs to (a subscriber to several gets it once); the last
-  // one is its subject.
+  // `topics`: every topic the event belongs to; the last one is its subject. A subscriber to
+  // several gets it once, under the subject if it asked for it, else under the first it asked for
+  // (a "jobs" subscriber sees topic "jobs", not "job/ID").
   void publish(const std::vector<std::string>& topics, const std::string& type, const std::string& data_json,
                Delivery delivery = Delivery::always);
   // To this node's subscribers, now: what publish() does without a forward.
@@ -121,9 +123,13 @@ class EventHub {
   std::size_t subscribers() const;
 
   static bool valid_topic(const std::string& topic);
+  // {"type", "topic", "time", "data"}; an empty `topic` is null (a reply about the connection).
   static std::string message(const std::string& topic, const std::string& type, const std::string& data_json);
 
  private:
+  static double now_seconds();  // to the millisecond, as messages' "time"
+  static std::string message_at(const std::string& topic, const std::string& type,
+                                const std::string& data_json, double time);
   friend class Subscription;
   void remove(const Subscription* s);
 

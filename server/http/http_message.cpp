@@ -43,6 +43,14 @@ HttpResponse HttpResponse::text(int status, std::string body, std::string conten
   return r;
 }
 
+HttpResponse HttpResponse::from_file(int status, FileRange file, std::string content_type) {
+  HttpResponse r;
+  r.status = status;
+  r.file = std::move(file);
+  r.content_type = std::move(content_type);
+  return r;
+}
+
 bool split_target(std::string_view target, std::string& path, std::map<std::string, std::string>& query) {
   const std::size_t q = target.find('?');
   if (!decode(target.substr(0, q), path, false)) return false;

@@ -2,6 +2,8 @@
 // Beast type leaves http_server.cpp.
 #pragma once
 
+#include <cstdint>
+#include <filesystem>
 #include <map>
 #include <optional>
 #include <string>
@@ -35,13 +37,23 @@ struct HttpRequest {
 };
 
 struct HttpResponse {
+  // A body read from a file as the client takes it, instead of `body`: `length` bytes from
+  // `offset`. The server holds one chunk per connection, never the file: downloads of large
+  // G-code by slow (or stalled) clients stay within a bounded memory.
+  struct FileRange {
+    std::filesystem::path path;
+    std::uint64_t offset = 0, length = 0;
+  };
+
   int status = 200;
   std::string content_type = "application/json";
   std::string body;
+  std::optional<FileRange> file;
   std::vector<std::pair<std::string, std::string>> headers;
 
   static HttpResponse text(int status, std::string body,
                            std::string content_type = "text/plain; charset=utf-8");
+  static HttpResponse from_file(int status, FileRange file, std::string content_type);
 };
 
 // Splits "/a%20b?x=1&y" into its decoded path and query parameters; false when the

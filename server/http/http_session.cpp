@@ -1,6 +1,7 @@
 // One HTTP connection: the header is read and judged first (404, 405, 401, 503 for the body
 // budget), then the body, each read with its own timeout, so an upload is cut only when it stalls.
 #include <fcntl.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -11,6 +12,7 @@
 #include <boost/beast/websocket/rfc6455.hpp>
 #include <ctime>
 #include <optional>
+#include <vector>
 
 #include "server/http/http_shared.hpp"
 
@@ -24,6 +26,8 @@ namespace websocket = beast::websocket;
 // a while: closing with unread bytes resets the connection, and the client may lose the response.
 constexpr std::size_t kLingerBytes = 1u << 20;
 constexpr std::chrono::seconds kLingerTime{2};
+// What a file download holds per connection (HttpResponse::file).
+constexpr std::size_t kFileChunk = 64 * 1024;
 
 // RFC 9110 §6.6.1: a server with a clock sends Date; `salient doctor` compares it with its own.
 std::string http_date_now() {
@@ -257,31 +261,101 @@ class Session : public std::enable_shared_from_this<Session> {
       shared_.options.on_response(method_, route_, status, elapsed(), client());
   }
 
-  void write(HttpResponse r, bool head) {
-    response_status_ = r.status;
-    auto out = std::make_shared<http::response<http::string_body>>(static_cast<http::status>(r.status), 11);
-    out->set(http::field::server, "salientd");
-    out->set(http::field::date, http_date_now());
-    out->set(http::field::content_type, r.content_type);
+  template <class Body>
+  void set_header(http::response<Body>& out, const HttpResponse& r) {
+    out.set(http::field::server, "salientd");
+    out.set(http::field::date, http_date_now());
+    out.set(http::field::content_type, r.content_type);
     for (const auto& [name, value] : r.headers) {
       // A path in Location is the client's: under the proxy's prefix ("/salient/api/v1/jobs/…").
       const bool path = name == "Location" && value.size() > 1 && value[0] == '/' && value[1] != '/';
-      out->set(name, path ? request_.base_path + value : value);
+      out.set(name, path ? request_.base_path + value : value);
     }
-    out->keep_alive(keep_alive_);
+    out.keep_alive(keep_alive_);
+  }
+
+  void write(HttpResponse r, bool head) {
+    if (r.file) return write_file(std::move(r), head);
+    response_status_ = r.status;
+    auto out = std::make_shared<http::response<http::string_body>>(static_cast<http::status>(r.status), 11);
+    set_header(*out, r);
     out->body() = std::move(r.body);
     out->prepare_payload();
     if (head) out->body().clear();
     stream_.expires_after(shared_.options.timeout);
     writing_ = true;
     http::async_write(stream_, *out, [self = shared_from_this(), out](beast::error_code ec, std::size_t) {
-      self->writing_ = false;
-      self->busy_ = false;
-      self->release_body();
-      if (ec) return self->close();
-      if (!self->keep_alive_ || self->closing_) return self->linger();
-      self->read_header();
+      self->written(ec);
     });
+  }
+
+  // A file body, a chunk at a time: each chunk is read when the last one has gone, and each
+  // write has the request timeout, so a client that stops reading is cut, not buffered for.
+  struct FileStream {
+    explicit FileStream(int fd) : fd(fd) {}
+    ~FileStream() { ::close(fd); }
+    int fd;
+    std::uint64_t offset = 0, left = 0;
+    std::vector<char> chunk;
+    http::response<http::buffer_body> response;
+    std::optional<http::response_serializer<http::buffer_body>> serializer;
+  };
+
+  void write_file(HttpResponse r, bool head) {
+    const int fd = ::open(r.file->path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0)  // removed between the route and now (a job deleted meanwhile)
+      return write(error_response(404, "not_found", "the file was removed while it was being sent"), head);
+    auto s = std::make_shared<FileStream>(fd);
+    s->offset = r.file->offset;
+    s->left = head ? 0 : r.file->length;
+    s->chunk.resize(static_cast<std::size_t>(std::min<std::uint64_t>(s->left, kFileChunk)));
+    response_status_ = r.status;
+    s->response.result(static_cast<http::status>(r.status));
+    s->response.version(11);
+    set_header(s->response, r);
+    s->response.content_length(r.file->length);
+    s->response.body().data = nullptr;
+    s->response.body().more = s->left > 0;
+    s->serializer.emplace(s->response);
+    if (head) s->serializer->split(true);  // the header only: a HEAD's body is never sent
+    stream_.expires_after(shared_.options.timeout);
+    writing_ = true;
+    http::async_write_header(stream_, *s->serializer,
+                             [self = shared_from_this(), s](beast::error_code ec, std::size_t) {
+                               if (ec || s->left == 0) return self->written(ec);
+                               self->send_chunk(s);
+                             });
+  }
+
+  void send_chunk(const std::shared_ptr<FileStream>& s) {
+    const std::size_t want = static_cast<std::size_t>(std::min<std::uint64_t>(s->left, s->chunk.size()));
+    const ssize_t n = ::pread(s->fd, s->chunk.data(), want, static_cast<off_t>(s->offset));
+    if (n <= 0) {  // the file shrank under us: the length is promised, so the connection ends
+      shared_.log("http: " + route_ + ": the file ended " + std::to_string(s->left) + " bytes early");
+      return written(beast::error_code(asio::error::eof));
+    }
+    s->offset += static_cast<std::uint64_t>(n);
+    s->left -= static_cast<std::uint64_t>(n);
+    s->response.body().data = s->chunk.data();
+    s->response.body().size = static_cast<std::size_t>(n);
+    s->response.body().more = s->left > 0;
+    stream_.expires_after(shared_.options.timeout);
+    http::async_write(stream_, *s->serializer,
+                      [self = shared_from_this(), s](beast::error_code ec, std::size_t) {
+                        if (ec == http::error::need_buffer) ec = {};  // this chunk went: the next one
+                        if (ec || s->serializer->is_done()) return self->written(ec);
+                        self->send_chunk(s);
+                      });
+  }
+
+  // A response has gone (or failed): the next request, or the end of the connection.
+  void written(beast::error_code ec) {
+    writing_ = false;
+    busy_ = false;
+    release_body();
+    if (ec) return close();
+    if (!keep_alive_ || closing_) return linger();
+    read_header();
   }
 
   // Half-closes, then drops what the client still sends until it closes too (or for a while).

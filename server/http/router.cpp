@@ -99,11 +99,25 @@ bool octoprint_path(const std::string& path) {
 
 namespace {
 
+// Whether the request carried a key at all (where ApiKeys::authenticate looks for one).
+bool presents_key(const HttpRequest& request) {
+  return !request.header("x-api-key").empty() || request.header("authorization").rfind("Bearer ", 0) == 0 ||
+         request.query.count("apikey") > 0;
+}
+
+// No key and a wrong key are told apart: a person who typed a key should not read that one is
+// required, but that this one is not known.
 HttpResponse unauthenticated(const HttpRequest& request) {
+  const bool presented = presents_key(request);
   if (octoprint_path(request.path))
-    return error_response(403, "forbidden", "a valid API key is required: X-Api-Key: KEY");
-  HttpResponse r = error_response(401, "unauthorized",
-                                  "an API key is required: X-Api-Key: KEY or Authorization: Bearer KEY");
+    return error_response(403, "forbidden",
+                          presented ? "this API key is not one salientd knows (mistyped, or revoked)"
+                                    : "a valid API key is required: X-Api-Key: KEY");
+  HttpResponse r = error_response(
+      401, "unauthorized",
+      presented ? "this API key is not one salientd knows (mistyped, or revoked): check it against the "
+                  "api-key file in salientd's data directory, or ask its admin for a key"
+                : "an API key is required: X-Api-Key: KEY or Authorization: Bearer KEY");
   r.headers.emplace_back("WWW-Authenticate", "Bearer realm=\"salient\"");
   return r;
 }

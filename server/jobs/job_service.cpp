@@ -11,7 +11,12 @@
 #include "core/export/plan_json.hpp"
 #include "core/mesh/mesh_loader.hpp"
 #include "core/mesh/mesh_reader.hpp"
+#include "core/mesh/placement.hpp"
+#include "core/pipeline/placed_model.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
+#include "core/pipeline/slice_result_json.hpp"
+#include "core/pipeline/slice_warning.hpp"
+#include "core/pipeline/work_bounds.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "server/common/domain_error.hpp"
 #include "server/common/json_text.hpp"
@@ -29,39 +34,63 @@ double now_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
-// Estimated minutes against the two uniform baselines (core::PlanTimes, from the time model);
-// print_seconds is the estimate of the G-code itself.
-nlohmann::json times_json(const core::SliceResult& r) {
-  if (!r.plan.times) return nullptr;
-  return nlohmann::json::parse(core::times_json(*r.plan.times));
-}
-
-// What "segment" decided (null without it), as `salient plan --segment` reports it.
-nlohmann::json segmentation_json(const core::SliceResult& r) {
-  if (!r.plan.segmentation) return nullptr;
-  return nlohmann::json::parse(core::segmentation_json(*r.plan.segmentation));
-}
-
-// What "up": "auto" chose (null otherwise): the direction, and each candidate's scores.
-nlohmann::json orientation_json(const core::SliceResult& r) {
-  if (!r.orientation) return nullptr;
-  nlohmann::json candidates = nlohmann::json::array();
-  for (const core::OrientationScore& c : r.orientation->candidates)
-    candidates.push_back({{"up", core::direction_text(c.up)},
-                          {"minutes", c.minutes},
-                          {"layers", c.layers},
-                          {"time_score", c.time_score},
-                          {"volume_score", c.volume_score},
-                          {"stability_score", c.stability_score},
-                          {"score", c.score}});
-  return {{"up", r.orientation->up}, {"candidates", candidates}};
-}
-
 core::PrinterProfile printer_for(const std::string& id) {
   if (auto p = core::builtin_printer(id)) return *p;
   std::string known;
   for (const std::string& k : core::builtin_printer_ids()) known += (known.empty() ? "" : ", ") + k;
   throw BadRequest("bad_settings", "settings: unknown printer '" + id + "' (built in: " + known + ")");
+}
+
+// The work the settings ask of this model, bounded as slice_model bounds it when it runs (its
+// check after placing), refused now (422) rather than as a failed job or a daemon out of memory.
+// "auto" places the model three ways when it runs: each is checked then.
+void check_work(const std::string& name, const core::Mesh& mesh, const core::SliceSettings& slice,
+                const core::PrinterProfile& printer) {
+  const core::MeshOptions& options = slice.plan.mesh;
+  if (options.up == "auto") return;
+  core::Mesh placed;
+  placed.positions = mesh.positions;
+  placed.triangles = mesh.triangles;
+  try {
+    const core::Placement placement = core::place_by_options(placed, options);
+    core::check_work_bounds(
+        placement.bounds, options, slice.min_layer_from_printer ? printer.min_layer : slice.plan.min_layer,
+        slice.plan.grid, core::BuildVolume{printer.bed_width, printer.bed_depth, printer.max_height});
+  } catch (const core::InputError& e) {
+    // A setting at fault is named as the settings' other refusals name it; else the model is.
+    throw Unprocessable("too_much_work",
+                        e.setting() ? "settings: " + e.spelled(quoted_setting)
+                                    : name + ": " + core::spell_settings(e.message(), quoted_setting));
+  }
+}
+
+// A model that would leave nothing printed is 422 at once, not a job that fails (or a one-layer
+// job that "succeeds") later: placed as the settings place it (with "up": "auto", by its largest
+// side, which the chosen orientation can at most make its height).
+void check_printable(core::Mesh mesh, const core::MeshOptions& options, const core::PrinterProfile& printer,
+                     const std::string& name) {
+  core::PlacementOptions placement;
+  const bool automatic = options.up == "auto";
+  if (!automatic) {
+    if (const auto up = core::parse_up_axis(options.up))
+      placement.up = *up;
+    else
+      placement.up_direction = core::parse_up_direction(options.up);
+  }
+  placement.target_height = options.height;
+  placement.scale = options.scale;
+  core::BoundingBox placed;
+  try {
+    placed = core::place_mesh(mesh, placement).bounds;
+  } catch (const core::InputError& e) {  // e.g. a flat model given a height
+    throw Unprocessable("unplaceable_model", e.spelled(quoted_setting));
+  }
+  if (automatic) placed.max.z = std::max({placed.size().x, placed.size().y, placed.size().z});
+  try {
+    core::check_printable_height(placed, printer.first_layer_height, name);
+  } catch (const core::InputError& e) {
+    throw Unprocessable("model_too_small", e.spelled(quoted_setting));
+  }
 }
 
 }  // namespace
@@ -137,7 +166,7 @@ void JobService::changed(const std::string& id) {
 JobService::Submitted JobService::submit(const std::string& filename, const std::string& bytes,
                                          const std::string& settings_json) {
   const JobSettings settings = parse_job_settings(settings_json, options_.max_json_depth);
-  printer_for(settings.printer);
+  const core::PrinterProfile printer = printer_for(settings.printer);
   const std::string name = sanitize_filename(filename);
   if (!core::detect_format(bytes, name))
     throw Unsupported("unsupported_format", name + ": not an STL, OBJ, PLY or OFF model");
@@ -148,6 +177,8 @@ JobService::Submitted JobService::submit(const std::string& filename, const std:
   } catch (const core::InputError& e) {
     throw Unprocessable("unreadable_mesh", e.what());
   }
+  check_printable(loaded.mesh, settings.slice.plan.mesh, printer, name);
+  check_work(name, loaded.mesh, settings.slice, printer);
   if (settings.slice.plan.saliency == core::SaliencyMethod::painted && !loaded.mesh.has_quality() &&
       !loaded.mesh.has_colors())
     throw Unprocessable("no_painted_saliency",
@@ -293,30 +324,14 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     run.check();  // a cancel that came as the slicing ended: nothing is stored
     const std::string gcode = store_.files().put(r.gcode);
     const std::string plan_digest = store_.files().put(core::plan_json(r.plan));  // as `salient plan -o`
-    result = json_text(
-        nlohmann::json{{"layers", r.layers},
-                       {"finest_layers", r.finest_layers},
-                       {"saving", r.finest_layers > 0 ? 1.0 - double(r.layers) / r.finest_layers : 0.0},
-                       {"print_seconds", r.print_seconds},
-                       {"filament_mm", r.filament_mm},
-                       {"stream",
-                        {{"peak_commands_per_second", r.stream.peak_commands_per_second},
-                         {"link_commands_per_second", r.stream.link_commands_per_second},
-                         {"baud", r.stream.baud},
-                         {"starves", r.stream.starves()}}},
-                       {"error", r.error},
-                       {"rsmd", r.rsmd},
-                       {"open_contours", r.open_contours},
-                       {"dropped_faces", r.dropped_faces},
-                       {"orientation", orientation_json(r)},
-                       {"segmentation", segmentation_json(r)},
-                       {"times", times_json(r)},
-                       {"printer", printer.id},
-                       {"gcode", gcode},
-                       {"plan", plan_digest},
-                       {"plot", store_.files().put(r.plot_svg)},
-                       {"model", store_.files().put(r.model_3mf)},
-                       {"saliency", store_.files().put(r.saliency_ply)}});
+    // The figures as `salient slice --json` prints them (one writer), then the files made.
+    nlohmann::json figures = nlohmann::json::parse(core::slice_result_json(r, printer.id, quoted_setting));
+    figures["gcode"] = gcode;
+    figures["plan"] = plan_digest;
+    figures["plot"] = store_.files().put(r.plot_svg);
+    figures["model"] = store_.files().put(r.model_3mf);
+    figures["saliency"] = store_.files().put(r.saliency_ply);
+    result = json_text(figures);
   } catch (const core::Cancelled&) {
     end = JobState::cancelled;
   } catch (const core::InputError& e) {

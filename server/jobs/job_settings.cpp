@@ -26,10 +26,6 @@ using nlohmann::json;
   bad(m);
 }
 
-std::string quoted(core::SettingId id) {
-  return "'" + std::string(core::setting_key(id)) + "'";
-}
-
 core::SettingValue value_of(const core::Setting& s, const json& v) {
   switch (s.type) {
     case core::SettingType::number:
@@ -63,6 +59,10 @@ json json_of(const core::SettingValue& v) {
 
 }  // namespace
 
+std::string quoted_setting(core::SettingId id) {
+  return "'" + std::string(core::setting_key(id)) + "'";
+}
+
 JobSettings parse_job_settings(const std::string& text_in, std::size_t max_depth) {
   json j = json::object();
   if (!text_in.empty()) {
@@ -83,14 +83,14 @@ JobSettings parse_job_settings(const std::string& text_in, std::size_t max_depth
       if (!j.contains(s.key)) continue;
       for (core::SettingId other : s.excludes)
         if (j.contains(core::setting_key(other)))
-          bad("give one of " + quoted(s.id) + " and " + quoted(other) + ", not both");
+          bad("give one of " + quoted_setting(s.id) + " and " + quoted_setting(other) + ", not both");
       s.set(settings, value_of(s, j.at(std::string(s.key))));
     }
     // A job's mistakes are a 400 now rather than a failed job later, on the printer's limits.
     if (const auto printer = core::builtin_printer(settings.printer))
       core::check_slice_settings(settings.slice, *printer);
   } catch (const core::InputError& e) {
-    bad(e.spelled(quoted));
+    bad(e.spelled(quoted_setting));
   }
   // Canonical form: the table's settings that a job always holds, and those given or changed,
   // keys sorted (nlohmann's object is ordered); equal settings share one result.

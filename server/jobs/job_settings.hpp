@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "core/common/setting_id.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
 
 namespace salient::server {
@@ -16,6 +17,9 @@ struct JobSettings {
   // defaults, the others only when given or changed (equal canonical settings share one result).
   std::string canonical;
 };
+
+// How a job's messages name a setting: 'grid' (its key in the settings JSON).
+std::string quoted_setting(core::SettingId id);
 
 // Throws BadRequest ("bad_settings") naming the key, as 'grid' (also in core's messages, which
 // are checked here on the built-in printer's layer limits); `json` may be empty (all defaults).

@@ -11,7 +11,8 @@
 namespace salient::server {
 
 // `gcode` as the program to stream; Unprocessable (422) when it has no command, or a line that
-// cannot be sent (too long, binary, not ASCII), named with its line number. For a printer that
+// cannot be sent (too long, binary, not ASCII, or a line number or M110: the host numbers the
+// lines), named with its line number. For a printer that
 // speaks s3g also a command the x3g translator would skip (a Marlin-only code: the file was not
 // sliced for this machine), so that nothing of a print is silently left out.
 std::shared_ptr<const protocol::Program> printable_program(const std::string& name, const std::string& gcode,

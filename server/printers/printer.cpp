@@ -2,6 +2,7 @@
 // for the printer's thread or sets a request on the running link (see printer.hpp).
 #include "server/printers/printer.hpp"
 
+#include "protocol/gcode/command_code.hpp"
 #include "protocol/link/printer_link.hpp"
 #include "server/common/domain_error.hpp"
 #include "server/printers/print_file.hpp"
@@ -261,7 +262,10 @@ void Printer::resume() {
 void Printer::cancel() {
   {
     std::lock_guard lock(mutex_);
-    if ((state_ != PrinterState::printing && state_ != PrinterState::paused) || !link_)
+    // Finishing too: console lines sent after the file's last one (a heating wait, a long dwell)
+    // may hold the link, and a cancel is the way out short of an emergency stop.
+    const bool finishing = state_ == PrinterState::finishing && print_streaming_;
+    if ((state_ != PrinterState::printing && state_ != PrinterState::paused && !finishing) || !link_)
       conflict(is(state_) + ": nothing to cancel");
     if (print_streaming_) {
       link_->cancel();
@@ -313,9 +317,16 @@ void Printer::emergency_stop() {
   wake_.notify_all();
 }
 
-void Printer::command(const std::vector<std::string>& commands) {
+void Printer::command(const std::vector<std::string>& commands, bool force) {
   {
     std::lock_guard lock(mutex_);
+    if (state_ == PrinterState::printing && !force)
+      for (const std::string& c : commands)
+        if (const auto code = protocol::command_code(c); code && protocol::moves_or_homes(*code))
+          throw Conflict("printer_printing",
+                         "printer " + config_.id + " is printing: " + code->text +
+                             " moves or homes the print head and would spoil the print; pause the print "
+                             "first, or send it anyway with \"force\": true (salient send --force)");
     const bool in_print = state_ == PrinterState::printing || state_ == PrinterState::paused;
     if (in_print && print_streaming_) {  // into the stream, as OctoPrint does (a temperature, a flow rate)
       if (!link_->send(commands)) conflict(is(state_) + ": this printer takes commands between prints only");

@@ -86,7 +86,9 @@ class Printer {
   void resume();
   void cancel();
   void emergency_stop();
-  void command(const std::vector<std::string>& commands);
+  // While a print streams, a command that moves or homes the head (G28, G1, G92, M84…) is a
+  // Conflict unless `force`: it would spoil the print (OctoPrint refuses jog and home then too).
+  void command(const std::vector<std::string>& commands, bool force = false);
 
   const std::string& id() const { return config_.id; }
   const PrinterConfig& config() const { return config_; }

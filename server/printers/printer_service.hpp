@@ -78,8 +78,8 @@ class PrinterService {
   void remove_queued(Printer& printer, long long entry);                    // NotFound
   void move_queued(Printer& printer, long long entry, long long position);  // NotFound, BadRequest
   void remove_from_profile(const std::string& profile, long long entry);    // NotFound
-  // A job ended (done, failed or cancelled): entries waiting for it start where a printer is idle
-  // and nothing ready is ahead of them, or are dropped if it failed.
+  // A job ended (done, failed or cancelled) or was deleted: entries waiting for it start where a
+  // printer is idle and nothing ready is ahead of them, or are dropped if it failed or is gone.
   // Safe for a job finished on another node (only this node's printers start, and an entry is
   // taken out of its queue before it starts: two nodes never start the same one).
   void job_finished(const std::string& job_id);

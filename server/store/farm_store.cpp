@@ -247,8 +247,8 @@ std::optional<PrinterAnswer> FarmStore::answer_of(long long id) {
 }
 
 bool FarmStore::cancel(long long id) {
-  db_.prepare(
-         "UPDATE printer_requests SET state = 'cancelled' WHERE id = ? AND state IN ('pending', 'taken')")
+  // Only a pending one: a taken request is being run by its node, and a cancel cannot undo that.
+  db_.prepare("UPDATE printer_requests SET state = 'cancelled' WHERE id = ? AND state = 'pending'")
       .bind(1, static_cast<std::int64_t>(id))
       .run();
   return db_.changes() == 1;

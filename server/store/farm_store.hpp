@@ -82,7 +82,8 @@ class FarmStore {
   // Requests. post: pending, for `node`; take: the node's pending requests, each taken (pending →
   // taken) by one UPDATE checked with changes(), so that none runs twice; answer: only a taken
   // one (a cancelled request's answer is dropped); cancel: the caller gave up — a pending request
-  // then never runs. answer_of: the answer once there.
+  // then never runs; false for one already taken (its node runs it: only its answer can tell).
+  // answer_of: the answer once there.
   long long post(const PrinterRequest& request, double now);
   std::vector<PrinterRequest> take(const std::string& node, int limit);
   bool answer(long long id, const PrinterAnswer& answer, double now);

@@ -47,6 +47,13 @@ FileStore::FileStore(fs::path root, std::unique_ptr<RemoteFiles> remote)
   fs::create_directories(root_ / "tmp");
 }
 
+std::optional<fs::space_info> FileStore::space() const {
+  std::error_code ec;
+  const fs::space_info info = fs::space(root_, ec);
+  if (ec || info.capacity == static_cast<std::uintmax_t>(-1)) return std::nullopt;
+  return info;
+}
+
 bool FileStore::valid_digest(std::string_view d) {
   if (d.size() != 64) return false;
   for (char c : d)

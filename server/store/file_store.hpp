@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -55,6 +56,9 @@ class FileStore {
   void remove(std::string_view digest);
 
   static bool valid_digest(std::string_view digest);
+  // Bytes free (for this process) and in all on the file system holding the files; none if it
+  // cannot be read.
+  std::optional<std::filesystem::space_info> space() const;
 
  private:
   std::filesystem::path local_path(std::string_view digest) const;

@@ -16,7 +16,9 @@ Job read_job(const Database::Statement& q) {
   Job j;
   j.id = q.text(0);
   j.state = job_state_from(q.text(1)).value_or(JobState::failed);
-  j.phase = job_phase_from(q.text(2)).value_or(JobPhase::none);
+  // A phase is a running job's: rows finished before finish() cleared it still say "toolpaths".
+  j.phase =
+      j.state == JobState::running ? job_phase_from(q.text(2)).value_or(JobPhase::none) : JobPhase::none;
   j.progress = q.real(3);
   j.filename = q.text(4);
   j.model_digest = q.text(5);
@@ -244,7 +246,8 @@ bool JobStore::finish(const std::string& id, const JobClaim& holder, JobState st
       db_,
       "UPDATE jobs SET state = ?1, error = ?2, result = ?3, finished_at = COALESCE(CAST(?4 AS {REAL}), "
       "{NOW}), "
-      "lease_until = NULL, progress = CASE WHEN ?1 = 'done' THEN 1 ELSE progress END WHERE id = ?5 AND "
+      "lease_until = NULL, phase = '', progress = CASE WHEN ?1 = 'done' THEN 1 ELSE progress END WHERE id = "
+      "?5 AND "
       "state = 'running' AND node = ?6 AND attempts = ?7"));
   q.bind(1, to_string(state)).bind(2, error).bind(3, result);
   bind_time(q, 4, now);

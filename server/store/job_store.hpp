@@ -57,8 +57,9 @@ class JobStore {
   // cancelled if a cancel was asked. Returns the jobs it changed. Safe with several reapers.
   std::vector<Job> reap(int max_attempts, std::optional<double> now = {});
   void set_progress(const std::string& id, JobPhase phase, double progress);
-  // A running job → done | failed | cancelled, by its holder only: false (and nothing changed)
-  // when `holder` no longer holds it or it had already finished, so that a finish is idempotent.
+  // A running job → done | failed | cancelled (its phase back to none), by its holder only: false (and
+  // nothing changed) when `holder` no longer holds it or it had already finished, so that a finish is
+  // idempotent.
   bool finish(const std::string& id, const JobClaim& holder, JobState state,
               const std::optional<std::string>& error, const std::optional<std::string>& result,
               std::optional<double> now = {});

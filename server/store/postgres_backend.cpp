@@ -79,6 +79,14 @@ struct Connection {
   PGconn* conn = nullptr;
   int changes = 0;
   std::unordered_map<std::string, std::string> prepared;  // SQL and parameter types → name
+  bool said_fatal = false;  // the server sent a FATAL error while idle: its session has ended
+
+  // Installed once: PQreset keeps it.
+  static void receive_notice(void* self, const PGresult* r) {
+    const char* severity = PQresultErrorField(r, PG_DIAG_SEVERITY_NONLOCALIZED);
+    if (severity && (std::strcmp(severity, "FATAL") == 0 || std::strcmp(severity, "PANIC") == 0))
+      static_cast<Connection*>(self)->said_fatal = true;
+  }
 
   void note_changes(const PGresult* r) {
     const char* status = PQcmdStatus(const_cast<PGresult*>(r));
@@ -95,13 +103,37 @@ struct Connection {
     if (status == PGRES_COMMAND_OK || status == PGRES_TUPLES_OK) return r;
     if (PQstatus(conn) == CONNECTION_BAD) {
       prepared.clear();  // they went with the old session
+      said_fatal = false;
       PQreset(conn);
     }
     fail(conn, r.get(), what);
   }
 
+  // Before a statement: a connection the server closed while it was idle (a restart, a terminated
+  // backend: its socket then reads the goodbye or EOF) is opened again now, before anything is
+  // sent, so the statement runs instead of failing (each HTTP thread's next request failed 500
+  // after a restart). Not inside a transaction: that went with the old session, and must fail.
+  void revive() {
+    const PGTransactionStatusType t = PQtransactionStatus(conn);
+    if (t == PQTRANS_INTRANS || t == PQTRANS_INERROR || t == PQTRANS_ACTIVE) return;
+    // A terminated backend sends its FATAL message, then closes: libpq, idle, passes the message
+    // to the notice receiver (said_fatal) and keeps the connection OK until it reads the end,
+    // which may come a moment later. Either tells the session is over.
+    for (int reads = 0; PQstatus(conn) == CONNECTION_OK; ++reads) {
+      pollfd p{PQsocket(conn), POLLIN, 0};
+      if (p.fd < 0 || ::poll(&p, 1, 0) <= 0 || reads == 4) break;
+      if (PQconsumeInput(conn) == 0) break;
+      PQisBusy(conn);  // parses what was read: a FATAL message reaches the notice receiver
+    }
+    if (PQstatus(conn) == CONNECTION_OK && !said_fatal) return;  // as it was
+    said_fatal = false;
+    prepared.clear();  // they went with the old session
+    PQreset(conn);
+  }
+
   Result execute(const std::string& sql, int n, const Oid* types, const char* const* values,
                  const int* lengths, const int* formats) {
+    revive();
     std::string key = sql;
     key.append(reinterpret_cast<const char*>(types), sizeof(Oid) * static_cast<std::size_t>(n));
     auto it = prepared.find(key);
@@ -217,8 +249,7 @@ class PostgresBackend final : public DatabaseBackend {
       throw StoreError("PostgreSQL: cannot connect: " + message);
     }
     // Notices (e.g. "relation already exists, skipping") are not errors: keep them off stderr.
-    PQsetNoticeProcessor(
-        c_.conn, [](void*, const char*) {}, nullptr);
+    PQsetNoticeReceiver(c_.conn, &Connection::receive_notice, &c_);
     // The tables of the backend itself, once per database; the lock orders two nodes starting
     // together. One round trip.
     try {
@@ -241,6 +272,7 @@ class PostgresBackend final : public DatabaseBackend {
   }
 
   void exec(std::string_view sql) override {
+    c_.revive();
     Result r = c_.checked(PQexec(c_.conn, std::string(sql).c_str()), "PostgreSQL: ");
     c_.note_changes(r.get());
     // A failed statement inside a transaction block leaves it aborted: ROLLBACK is what follows.

@@ -36,3 +36,18 @@ TEST_CASE("parse accepts good frames and refuses bad ones") {
   CHECK(e == FrameError::none);
   CHECK_FALSE(l.number.has_value());
 }
+
+TEST_CASE("line numbers and M110 belong to the host: refused, with the reason") {
+  // Sent mid-print, "M110 N0" made the firmware ask for line 1 and the host replay the file forever.
+  for (const char* c : {"M110 N0", "M110", "m110 N5", "M0110 N0", "N12 G1 X5", "N-1 M105", "n3 M105"}) {
+    INFO(c);
+    CHECK(!numbering_command(c).empty());
+    CHECK(unsendable(c) == numbering_command(c));
+  }
+  CHECK(numbering_command("M110 N0").find("M110") != std::string::npos);
+  CHECK(numbering_command("N12 G1 X5").find("N12") != std::string::npos);
+  for (const char* c : {"M1100", "M11", "G1 X10 ; N5", "M117 N12 done", "G28", "M105", "N"}) {
+    INFO(c);
+    CHECK(numbering_command(c).empty());
+  }
+}

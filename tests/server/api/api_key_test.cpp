@@ -7,7 +7,9 @@
 #include <doctest/doctest.h>
 #include <sys/stat.h>
 
+#include <chrono>
 #include <fstream>
+#include <functional>
 #include <regex>
 #include <set>
 #include <thread>
@@ -187,4 +189,45 @@ TEST_CASE("a hex key of a data directory from before users (schema 3) is the adm
   CHECK(who->role == Role::admin);
   // And it is the admin key that may not go last.
   CHECK_THROWS_AS(keys.revoke(who->key_id), Conflict);
+}
+
+// Issue 32: in a farm each node kept its own copy of the keys, so a key revoked on node A still
+// worked on node B (an admin's minted new keys there), and one made on A was refused on B. Two
+// ApiKeys on one store are two nodes' caches of one table.
+TEST_CASE("a key made or revoked through another node is seen here within a second, with its sessions") {
+  salient::test::ScratchDir dir("keys-nodes");
+  Store store(dir.path);
+  const ApiKey first = ensure_api_key(store);
+  ApiKeys a(store);
+  Sessions sessions;  // node B's, outliving its keys' refresher
+  ApiKeys b(store);
+  b.on_revoked([&sessions](long long id) { sessions.close_key(id); });
+  b.start_refresh(std::chrono::milliseconds(100), {});
+  // Within a second, measured: polls every 20 ms.
+  const auto within_a_second = [](const std::function<bool()>& seen) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(1);
+    while (!seen() && std::chrono::steady_clock::now() < until)
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    return seen();
+  };
+
+  const NewKey phone = a.create("otto", Role::operator_, "phone");
+  const NewKey laptop = a.create("otto", std::nullopt, "laptop");
+  const NewKey boss = a.create("boss", Role::admin, "");
+  CHECK(within_a_second([&] { return b.valid_key(phone.key) && b.valid_key(boss.key); }));
+  const std::string on_phone = sessions.open("otto", phone.info.id);
+  const std::string on_laptop = sessions.open("otto", laptop.info.id);
+
+  a.revoke(phone.info.id);
+  CHECK(within_a_second([&] { return !b.valid_key(phone.key); }));
+  // Its session ends with it, though otto holds another key; the other key's session stays.
+  CHECK(within_a_second([&] { return !sessions.user_of(on_phone); }));
+  CHECK(sessions.user_of(on_laptop) == std::optional<std::string>("otto"));
+  CHECK(b.valid_key(laptop.key));
+
+  // A revoked admin key is refused on B before it can make another key there.
+  a.revoke(boss.info.id);
+  CHECK(within_a_second([&] { return !b.principal(boss.key); }));
+  CHECK(b.valid_key(first.key));
+  b.stop_refresh();
 }

@@ -34,35 +34,85 @@ TEST_CASE("a request is pending, then approved once, and a denied one is gone") 
   CHECK(requests.poll(pod.app_token, 12).state == Poll::unknown);
 }
 
-TEST_CASE("requests expire: after 10 minutes, or a minute without a poll") {
+TEST_CASE("requests expire: after 10 minutes, or 20 s without a poll") {
   AppKeyRequests requests;
   const AppKeyRequest a = requests.open("a", "", "h1", 0);
   const AppKeyRequest b = requests.open("b", "", "h2", 0);
-  for (double t = 30; t < 700; t += 30) requests.poll(a.app_token, t);  // a keeps polling, b does not
+  for (double t = 10; t < 700; t += 10) requests.poll(a.app_token, t);  // a keeps polling, b does not
   CHECK(requests.poll(b.app_token, 700).state == Poll::unknown);
   CHECK(requests.poll(a.app_token, 700).state == Poll::unknown);  // past 600 s even so
   const AppKeyRequest c = requests.open("c", "", "h3", 1000);
-  CHECK(requests.poll(c.app_token, 1050).state == Poll::pending);
-  CHECK(requests.poll(c.app_token, 1111).state == Poll::unknown);
-  CHECK_FALSE(requests.decide(c.user_token, true, "apps", std::nullopt, 1111));
+  CHECK(requests.poll(c.app_token, 1015).state == Poll::pending);
+  CHECK(requests.poll(c.app_token, 1036).state == Poll::unknown);
+  CHECK_FALSE(requests.decide(c.user_token, true, "apps", std::nullopt, 1036));
 }
 
-TEST_CASE("bounded: 3 a minute and 10 an hour per address, 16 waiting in all") {
+TEST_CASE("bounded: 3 a minute and 10 an hour per address, 2 waiting per address") {
   AppKeyRequests requests;
-  for (int i = 0; i < 3; ++i) requests.open("x", "", "attacker", i);
-  CHECK_THROWS_AS(requests.open("x", "", "attacker", 3), TooBusy);
-  requests.open("x", "", "someone", 3);  // others may still ask
-  std::vector<AppKeyRequest> open;
-  for (int i = 0; i < 7; ++i) requests.open("x", "", "attacker", 61 + 61 * i);
-  CHECK_THROWS_AS(requests.open("x", "", "attacker", 3000), TooBusy);  // 10 in the hour
-  AppKeyRequests fresh;
-  for (std::size_t i = 0; i < AppKeyRequests::kMaxPending; ++i)
-    fresh.open("x", "", "10.1.0." + std::to_string(i), 0);
+  const AppKeyRequest first = requests.open("x", "", "attacker", 0);
+  requests.open("x", "", "attacker", 1);
+  CHECK_THROWS_AS(requests.open("x", "", "attacker", 2), TooBusy);  // 2 waiting
+  CHECK(requests.decide(first.user_token, false, "", std::nullopt, 2));
+  requests.open("x", "", "attacker", 2);
+  CHECK_THROWS_AS(requests.open("x", "", "attacker", 3), TooBusy);              // 3 in the minute
+  requests.open("x", "", "someone", 3);                                         // others may still ask
+  for (int i = 0; i < 7; ++i) requests.open("x", "", "attacker", 61 + 61 * i);  // each expired unpolled
+  CHECK_THROWS_AS(requests.open("x", "", "attacker", 3000), TooBusy);           // 10 in the hour
+}
+
+// The flood of issue 32: 7 addresses asking as fast as allowed, polling to keep their requests,
+// left every other app 429 for 10 minutes. Now they hold 2 each at most and their network 8.
+TEST_CASE("a flood from a few addresses leaves room for other apps") {
+  AppKeyRequests requests;
+  std::vector<AppKeyRequest> flood;
+  for (double t = 0; t < 600; t += 10) {
+    for (int a = 1; a <= 7; ++a) {
+      try {
+        flood.push_back(requests.open("x", "", "10.1.0." + std::to_string(a), t));
+      } catch (const TooBusy&) {
+      }
+    }
+    for (const AppKeyRequest& r : flood) requests.poll(r.app_token, t);  // kept alive
+    CHECK(requests.pending(t).size() <= AppKeyRequests::kPerNetwork);
+  }
+  // At 605 s the first requests (made at 0) have lived their 10 minutes: the flood asks again.
+  for (int a = 1; a <= 7; ++a) {
+    try {
+      flood.push_back(requests.open("x", "", "10.1.0." + std::to_string(a), 605));
+    } catch (const TooBusy&) {
+    }
+  }
+  CHECK(requests.pending(605).size() == AppKeyRequests::kPerNetwork);
+  // An app elsewhere (another network, or another address of the same one while it has room).
+  const AppKeyRequest other = requests.open("OctoPod", "", "192.168.5.20", 605);
+  CHECK(requests.poll(other.app_token, 606).state == Poll::pending);
+  // The network's share full: a further address of it waits, with a time to retry.
   try {
-    fresh.open("x", "", "10.2.0.1", 1);
+    requests.open("x", "", "10.1.0.99", 606);
+    FAIL("a request beyond the network's share was taken");
+  } catch (const TooBusy& e) {
+    CHECK(e.retry_after().value_or(0) > 0);
+    CHECK(std::string(e.what()).find("network") != std::string::npos);
+  }
+  // IPv6: a /64 is one network; IPv4 mapped into IPv6 is the IPv4 address's.
+  AppKeyRequests six;
+  for (int i = 0; i < 8; ++i) six.open("x", "", "2001:db8:1:2::" + std::to_string(i + 1), 0);
+  CHECK_THROWS_AS(six.open("x", "", "2001:db8:1:2:ffff::1", 0), TooBusy);
+  six.open("x", "", "2001:db8:1:3::1", 0);
+  AppKeyRequests mapped;
+  for (int i = 0; i < 8; ++i) mapped.open("x", "", "::ffff:10.9.9." + std::to_string(i + 1), 0);
+  CHECK_THROWS_AS(mapped.open("x", "", "10.9.9.200", 0), TooBusy);
+}
+
+TEST_CASE("bounded: 64 waiting in all") {
+  AppKeyRequests requests;
+  for (std::size_t i = 0; i < AppKeyRequests::kMaxPending; ++i)
+    requests.open("x", "", "10." + std::to_string(i) + ".0.1", 0);
+  try {
+    requests.open("x", "", "10.200.0.1", 1);
     FAIL("a request beyond the bound was taken");
   } catch (const TooBusy& e) {
     CHECK(e.retry_after().value_or(0) > 0);
   }
-  CHECK(fresh.pending(1).size() == AppKeyRequests::kMaxPending);
+  CHECK(requests.pending(1).size() == AppKeyRequests::kMaxPending);
 }

@@ -3,6 +3,8 @@
 // "salient-key.KEY"; the server accepts it, answers with the plain protocol it was offered (never
 // echoing the key), and refuses a wrong one with 401. Nothing it logs holds the key.
 #include <doctest/doctest.h>
+#include <sys/socket.h>
+#include <sys/time.h>
 
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/asio/read_until.hpp>
@@ -123,4 +125,39 @@ TEST_CASE("a wrong key in the subprotocol is refused with 401, as a wrong header
   CHECK(upgrade_status(d.port, "salient.v1, salient-key." + d.key).rfind("HTTP/1.1 101", 0) == 0);
   Client c;
   CHECK(c.connect(d.port, "salient.v1, salient-key.0123456789abcdef"));  // Beast's client sees it too
+}
+
+// Issue 32: a WebSocket kept streaming 70 s after its key was revoked. Revoked through another
+// node's keys (a second ApiKeys on the store), the connection it opened is closed within a second.
+TEST_CASE("a key revoked on another node closes the events it opened within a second") {
+  Daemon d;
+  d.keys->start_refresh(std::chrono::milliseconds(100), {});
+  const NewKey otto = d.keys->create("otto", Role::viewer, "phone");
+  Client c;
+  REQUIRE(!c.connect(d.port, "salient.v1, salient-key." + otto.key));
+  c.ws.write(asio::buffer(std::string(R"({"subscribe": ["jobs"]})")));
+  beast::flat_buffer in;
+  c.ws.read(in);
+  in.consume(in.size());
+  // A read that never ends fails the test instead of hanging it.
+  const timeval limit{3, 0};
+  ::setsockopt(beast::get_lowest_layer(c.ws).socket().native_handle(), SOL_SOCKET, SO_RCVTIMEO, &limit,
+               sizeof limit);
+
+  ApiKeys other_node(*d.store);
+  other_node.revoke(otto.info.id);
+  const auto revoked = std::chrono::steady_clock::now();
+  beast::error_code ec;
+  while (!ec) {
+    c.ws.read(in, ec);
+    in.consume(in.size());
+  }
+  const auto took = std::chrono::steady_clock::now() - revoked;
+  CHECK(ec == websocket::error::closed);
+  CHECK(took < std::chrono::seconds(1));
+  CHECK(c.ws.reason().code == websocket::close_code::policy_error);
+  const auto& why = c.ws.reason().reason;
+  CHECK(std::string(why.data(), why.size()).find("revoked") != std::string::npos);
+  CHECK(upgrade_status(d.port, "salient.v1, salient-key." + otto.key).rfind("HTTP/1.1 401", 0) == 0);
+  d.keys->stop_refresh();
 }

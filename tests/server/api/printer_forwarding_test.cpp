@@ -120,3 +120,40 @@ TEST_CASE("forwarding on PostgreSQL wakes the owning node at once: it does not w
   CHECK(seconds < 4.0);
   MESSAGE("10 forwarded requests in " << seconds << " s");
 }
+
+TEST_CASE("forwarding: a request the owning node took but answers late is awaited, never told undone") {
+  const salient::test::ScratchDir scratch("forwarding-slow");
+  Store store(scratch.path, salient::test::test_database(scratch));
+  const double now = now_seconds();
+  FarmStore(store.db()).heartbeat({"x", "printers", "1", now, now});
+  FarmStore(store.db()).register_printers("x", {{"x1", "generic-i3", "{}"}}, now, now - 15);
+  std::atomic<int> ran{0};
+  std::atomic<int> delay_ms{600};
+  Router x_router;  // a print that takes longer to start than the API node's timeout
+  x_router.add("POST", "/api/v1/printers/{id}/pause", Access::key,
+               [&](const HttpRequest&, const PathParams&) {
+                 std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms.load()));
+                 ++ran;
+                 return json_response(202, {{"paused", true}});
+               });
+  PrinterRequestExecutor x_executor(store, x_router, "x");
+  x_executor.start();
+  PrinterFarm y(store, {"y", 15, 0.4, 64, 4});
+  const auto x1 = y.other("x1");
+  REQUIRE(x1);
+  // Taken at once, answered after 0.6 s: the answer, not a 504 claiming nothing was done (the
+  // pause did happen).
+  const HttpResponse slow = y.forward(pause_request(Role::operator_), *x1);
+  CHECK(ran == 1);
+  CHECK(slow.status == 202);
+  CHECK(slow.body.find("nothing was done") == std::string::npos);
+
+  // Answered after twice the timeout: 504, saying it may still happen; and it does.
+  delay_ms = 1500;
+  const HttpResponse later = y.forward(pause_request(Role::operator_), *x1);
+  CHECK(later.status == 504);
+  CHECK(later.body.find("nothing was done") == std::string::npos);
+  CHECK(later.body.find("may still") != std::string::npos);
+  x_executor.stop();  // waits for the request under way
+  CHECK(ran == 2);
+}

@@ -1,6 +1,7 @@
 // PushChannel, the push socket's client, with a stepped clock and a feed of our own: `connected`
 // first, auth (reauthRequired when wrong), history once, progress coalesced and throttled at
-// 500 ms × throttle, a change of state always sent and in order, events filtered by subscription,
+// 500 ms × throttle, a change of state always sent and in order (but never two currents within
+// 500 ms), events filtered by subscription,
 // garbage ignored, and a client that falls behind cut off rather than grow the queue.
 #include "server/api/push_channel.hpp"
 
@@ -129,17 +130,27 @@ TEST_CASE("a change of state is always sent, in order, whatever the throttle, an
   Harness h;
   h.authenticate();
   h.channel.receive(R"({"throttle": 10})");
+  h.now += 5s;
   h.channel.progress(part("Printing", 99));
   h.channel.state_changed(part("Finishing", 100));
   h.channel.event("PrinterStateChanged", R"({"state_id":"FINISHING"})");
   h.channel.state_changed(part("Operational"));
   h.channel.event("PrintDone", R"({"time":5})");
+  // At most one `current` per 500 ms, as OctoPrint: the second change waits, and the event
+  // queued behind it with it.
   auto sent = h.drain();
-  REQUIRE(sent.size() == 4);
+  REQUIRE(sent.size() == 2);
   CHECK(sent[0]["current"]["state"]["text"] == "Finishing");
   CHECK(sent[1]["event"]["type"] == "PrinterStateChanged");
-  CHECK(sent[2]["current"]["state"]["text"] == "Operational");
-  CHECK(sent[3]["event"] == json{{"type", "PrintDone"}, {"payload", {{"time", 5}}}});
+  h.now += 499ms;
+  CHECK(!h.channel.due());
+  CHECK(h.drain().empty());
+  h.now += 1ms;
+  CHECK(h.channel.due());
+  sent = h.drain();
+  REQUIRE(sent.size() == 2);
+  CHECK(sent[0]["current"]["state"]["text"] == "Operational");
+  CHECK(sent[1]["event"] == json{{"type", "PrintDone"}, {"payload", {{"time", 5}}}});
   // The 99 % was older than the changes: it is not sent after them.
   h.now += 10s;
   CHECK(h.drain().empty());
@@ -152,6 +163,23 @@ TEST_CASE("a change of state is always sent, in order, whatever the throttle, an
   CHECK(h.drain().size() == 1);
 }
 
+TEST_CASE("no two currents less than 500 ms apart, even a change of state right after progress") {
+  Harness h;
+  h.authenticate();
+  h.now += 500ms;
+  h.channel.progress(part("Printing", 50));
+  REQUIRE(h.drain().size() == 1);
+  h.now += 30ms;
+  h.channel.state_changed(part("Paused", 50));
+  CHECK(h.drain().empty());
+  h.now += 469ms;
+  CHECK(h.drain().empty());
+  h.now += 1ms;
+  const auto sent = h.drain();
+  REQUIRE(sent.size() == 1);
+  CHECK(sent[0]["current"]["state"]["text"] == "Paused");
+}
+
 TEST_CASE("subscribe: events by type, state off means no current, logs off means none") {
   Harness h;
   h.authenticate();
@@ -159,6 +187,7 @@ TEST_CASE("subscribe: events by type, state off means no current, logs off means
   h.channel.event("PrintStarted", "{}");
   h.channel.event("PrintDone", "{}");
   h.channel.state_changed(part("Operational"));
+  h.now += 500ms;  // the history sent on login is a current too: the next waits its 500 ms
   auto sent = h.drain();
   REQUIRE(sent.size() == 2);
   CHECK(sent[0]["event"]["type"] == "PrintDone");

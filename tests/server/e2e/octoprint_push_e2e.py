@@ -254,10 +254,13 @@ if not any(line.startswith("Send: ") for line in logs) or not any(line.startswit
 
 
 def check_throttle(currents, throttle):
-    """No two currents closer than 500 ms × throttle, except one that carries a change of state."""
+    """No two currents closer than 500 ms × throttle, except one that carries a change of state,
+    and that one not closer than 500 ms either (OctoPrint sends at most two a second)."""
     for (t0, a), (t1, b) in zip(currents, currents[1:]):
         if a["state"]["text"] == b["state"]["text"] and t1 - t0 < 0.5 * throttle - 0.15:
             fail(f"two currents {t1 - t0:.3f} s apart with throttle {throttle}")
+        if t1 - t0 < 0.35:
+            fail(f"two currents {t1 - t0:.3f} s apart ({a['state']['text']} -> {b['state']['text']})")
 
 
 check_throttle(first_print, 1)

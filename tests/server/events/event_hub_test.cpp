@@ -46,6 +46,32 @@ TEST_CASE("an event reaches each subscriber of any of its topics, once, with typ
   CHECK(got_a[0]["time"].get<double>() > 1.6e9);
 }
 
+TEST_CASE("each subscriber gets an event under a topic it asked for, so that it can filter on it") {
+  EventHub hub;
+  auto all = hub.subscribe(), one = hub.subscribe(), both = hub.subscribe(), printers = hub.subscribe();
+  REQUIRE(all->subscribe("jobs"));
+  REQUIRE(one->subscribe("job/j1"));
+  REQUIRE(both->subscribe("jobs"));
+  REQUIRE(both->subscribe("job/j1"));
+  REQUIRE(printers->subscribe("printers"));
+  hub.publish({"jobs", "job/j1"}, "job", R"({"id":"j1","state":"queued"})");
+  hub.publish({"jobs", "job/j1"}, "job", R"({"id":"j1","progress":0.1})", Delivery::coalesce);
+  hub.publish({"jobs", "job/j1"}, "job", R"({"id":"j1","progress":0.2})",
+              Delivery::coalesce);  // replaces 0.1
+  hub.publish({"printers", "printer/p1"}, "queue", R"({"printer":"p1"})");
+  const auto got_all = drain(*all), got_one = drain(*one), got_both = drain(*both), got_p = drain(*printers);
+  REQUIRE(got_all.size() == 2);
+  REQUIRE(got_one.size() == 2);
+  REQUIRE(got_both.size() == 2);
+  REQUIRE(got_p.size() == 1);
+  for (const json& m : got_all) CHECK(m["topic"] == "jobs");
+  for (const json& m : got_one) CHECK(m["topic"] == "job/j1");
+  for (const json& m : got_both) CHECK(m["topic"] == "job/j1");  // the most precise it asked for
+  CHECK(got_p[0]["topic"] == "printers");
+  CHECK(got_all[1]["data"]["progress"] == 0.2);
+  CHECK(got_all[0]["time"] == got_one[0]["time"]);  // one event, one time, whatever the topic
+}
+
 TEST_CASE("progress coalesces behind a state change but never jumps over it") {
   EventHub hub;
   auto s = hub.subscribe();
@@ -102,14 +128,20 @@ TEST_CASE(
   auto got = drain(*s);
   REQUIRE(got.size() == 2);
   CHECK(got[0]["data"]["state"] == "running");
+  CHECK(got[0]["topic"] == "job/j1");
   CHECK(got[1]["type"] == "subscribed");
   CHECK(got[1]["data"]["topics"].size() == 2);
+  // Every message has the four fields; a reply about the connection has a null topic.
+  for (const json& m : got) CHECK(m.size() == 4);
+  CHECK(got[1].contains("topic"));
+  CHECK(got[1]["topic"].is_null());
   for (const char* bad :
        {"not json", "[1]", R"({"subscribe": "jobs"})", R"({"subscribe": ["nope"]})", R"({"listen": []})"}) {
     s->receive(bad);
     got = drain(*s);
     REQUIRE_MESSAGE(got.size() == 1, bad);
     CHECK(got[0]["type"] == "error");
+    CHECK(got[0]["topic"].is_null());
     CHECK(!got[0]["data"]["message"].get<std::string>().empty());
   }
   s->receive(R"({"unsubscribe": ["printers"]})");

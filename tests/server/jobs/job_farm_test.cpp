@@ -147,7 +147,7 @@ TEST_CASE(
   const std::string bunny = model_bytes("stanford-bunny.obj");
   JobStore jobs(store_b.db());
   // A long job on a; meanwhile "a paused past its lease": another node re-queued it and took it.
-  const std::string lost = a.submit("bunny.obj", bunny, R"({"layers": 40})").job.id;
+  const std::string lost = a.submit("bunny.obj", bunny, R"({"layers": 40, "height": 30})").job.id;
   REQUIRE(eventually([&] { return jobs.get(lost)->state == JobState::running; }, 30));
   REQUIRE(jobs.reap(3, 1e12).size() == 1);  // far in the future: a's lease has expired
   REQUIRE(jobs.claim("b", 60)->attempts == 2);
@@ -162,7 +162,7 @@ TEST_CASE(
   CHECK(jobs.finish(lost, {"b", 2}, JobState::failed, std::string("test over"), std::nullopt));
 
   // A cancel through b's API of a job a runs: a sees it at its next renewal.
-  const std::string other = a.submit("bunny.obj", bunny, R"({"layers": 41})").job.id;
+  const std::string other = a.submit("bunny.obj", bunny, R"({"layers": 41, "height": 30})").job.id;
   REQUIRE(eventually([&] { return jobs.get(other)->state == JobState::running; }, 30));
   CHECK(b.cancel(other));
   REQUIRE(eventually([&] { return jobs.get(other)->state == JobState::cancelled; }, 30));

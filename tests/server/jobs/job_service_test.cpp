@@ -180,6 +180,19 @@ TEST_CASE(
   CHECK(status_of([&] { service.submit("broken.obj", model_bytes("invalid/malformed.obj"), ""); }) == 422);
   // Readable, but nothing printable once repaired: refused at upload, not failed later.
   CHECK(status_of([&] { service.submit("line.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n", ""); }) == 422);
+  // A model in metres read as millimetres (the bunny is 0.12 mm tall): nothing would print, so 422
+  // at upload with the fix, not a one-layer job later; with "up": "auto", by its largest side.
+  const std::string bunny = model_bytes("stanford-bunny.obj");
+  try {
+    service.submit("bunny.obj", bunny, "");
+    FAIL("expected 422");
+  } catch (const DomainError& e) {
+    CHECK(salient::server::status_of(e.kind()) == 422);
+    CHECK(e.code() == "model_too_small");
+    CHECK(std::string(e.what()).find("bunny.obj: the model is 0.12 mm tall as placed") != std::string::npos);
+    CHECK(std::string(e.what()).find("give 'height' in millimetres") != std::string::npos);
+  }
+  CHECK(status_of([&] { service.submit("bunny.obj", bunny, R"({"up": "auto"})"); }) == 422);
   CHECK(status_of([&] {
           service.submit("deep.ply", cube, std::string(80000, '[') + std::string(80000, ']'));
         }) == 400);
@@ -191,6 +204,57 @@ TEST_CASE(
     CHECK(e.kind() == ErrorKind::too_busy);
     CHECK(e.retry_after() == 30);
   }
+}
+
+TEST_CASE("submit refuses settings that ask for unbounded work: 422 naming the setting, nothing queued") {
+  const salient::test::ScratchDir dir("jobs-bounds");
+  Store store(dir.path);
+  JobService service(store, {});  // not started: what is accepted stays queued
+  const std::string cube = model_bytes("cube_binary.ply");
+  const auto refusal = [&](const std::string& name, const std::string& bytes, const char* settings) {
+    try {
+      service.submit(name, bytes, settings);
+    } catch (const DomainError& e) {
+      CHECK(salient::server::status_of(e.kind()) == 422);
+      CHECK(e.code() == "too_much_work");
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // Each was inside its own range, and took the daemon to gigabytes (issue 32, item 11).
+  CHECK(refusal("cube.ply", cube, R"({"height": 10000, "grid": 0.001})") ==
+        "settings: 'height': 10000 mm makes the model 10000 mm tall, more than the printer's build volume "
+        "180 mm");
+  CHECK(refusal("cube.ply", cube, R"({"scale": 1e6})").rfind("settings: 'scale': 1e+06 makes the model", 0) ==
+        0);
+  CHECK(
+      refusal("cube.ply", cube, R"({"height": 150, "grid": 0.001})").rfind("settings: 'grid': 0.001 mm", 0) ==
+      0);
+  // A model 1e-20 mm across crashed the saliency at every start (item 10).
+  const std::string tiny =
+      "v 0 0 0\nv 1e-20 0 0\nv 0 1e-20 0\nv 0 0 1e-20\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  CHECK(status_of([&] { service.submit("tiny.obj", tiny, ""); }) ==
+        422);  // model_too_small, before the bounds
+  CHECK(JobStore(store.db()).count(JobState::queued) == 0);
+  CHECK(refusal("cube.ply", cube, R"({"height": 150})") == "accepted");
+}
+
+TEST_CASE("a job on a model of unit size ends done with a warning in its result that names the fix") {
+  const salient::test::ScratchDir dir("jobs-tiny");
+  Store store(dir.path);
+  JobService service(store, {});
+  service.start();
+  const auto submitted =
+      service.submit("cube.ply", model_bytes("cube_binary.ply"), R"({"planner": "uniform"})");
+  const Job done = wait_finished(store, submitted.job.id);
+  REQUIRE(done.state == JobState::done);
+  const nlohmann::json result = nlohmann::json::parse(*done.result);
+  REQUIRE(result.at("warnings").size() >= 1);
+  CHECK(result["warnings"][0]["code"] == "model_tiny");
+  const std::string message = result["warnings"][0]["message"];
+  CHECK(message.find("cube.ply is 1 mm tall as placed") == 0);
+  CHECK(message.find("Give 'height' in millimetres") != std::string::npos);
+  CHECK(result.at("saliency_method") == "spectral saliency");
 }
 
 TEST_CASE("cancel: a queued job at once, and a restart re-queues a job that was running") {

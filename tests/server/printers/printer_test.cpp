@@ -14,6 +14,7 @@
 #include <sstream>
 #include <thread>
 
+#include "protocol/gcode/command_code.hpp"
 #include "protocol/gcode/program.hpp"
 #include "protocol/marlin/line_codec.hpp"
 #include "server/api/printer_json.hpp"
@@ -336,6 +337,85 @@ TEST_CASE("emergency stop halts the firmware, and the printer reports an error u
   p.connect();  // a fresh simulator, as a reset board
   REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
   p.command({"M106 S255", "M107"});
+  p.stop();
+}
+
+TEST_CASE("a file holding M110 or a numbered line is refused before anything goes, naming the line") {
+  // M110 N0 in a file made the firmware ask for line 1 again, and the host replayed the file
+  // from there forever, stuck in finishing.
+  Fixture f("printer-m110");
+  Printer p(f.sim("--advanced-ok --time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  for (const std::string bad : {"M110 N0", "N7 G1 X5"}) {
+    INFO(bad);
+    const std::string gcode = "G28\n; a comment\nG1 X10 F3000\n" + bad + " ; the host's business\nG1 X20\n";
+    try {
+      p.print(f.file(gcode));
+      FAIL("the file was accepted");
+    } catch (const DomainError& e) {
+      CHECK(e.kind() == ErrorKind::unprocessable);
+      CHECK(std::string(e.what()).find("line 4") != std::string::npos);
+      CHECK(std::string(e.what()).find(bad.substr(0, 2)) != std::string::npos);
+    }
+    CHECK(p.state() == PrinterState::operational);
+  }
+  p.stop();
+  CHECK(executed(f.dir.path / "sim.log").empty());  // nothing of either file went
+}
+
+TEST_CASE("moves and homing wait for the print: refused while it prints unless forced, sent paused or idle") {
+  Fixture f("printer-motion-guard");
+  Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  p.command({"G28 X"});  // idle: it goes
+  p.print(f.file(make_gcode(5000)));
+  REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 10; }));
+  for (const std::string move : {"G28", "G1 X5 Y5", "g0 z5", "G92 E0", "M84", "G29"}) {
+    INFO(move);
+    try {
+      p.command({"M117 refused with the move", move});
+      FAIL("a move was sent into the print");
+    } catch (const Conflict& e) {
+      const std::string what = e.what();
+      CHECK(what.find("is printing") != std::string::npos);
+      CHECK(what.find(salient::protocol::command_code(move)->text) != std::string::npos);
+      CHECK(what.find("force") != std::string::npos);
+    }
+  }
+  p.command({"M220 S90"});        // not a move: into the stream
+  p.command({"G1 X7 Y7"}, true);  // forced: the owner's call
+  p.pause();
+  p.command({"G1 Z10"});  // paused: moving the head away is what a pause is for
+  p.cancel();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  p.stop();
+  const auto log = executed(f.dir.path / "sim.log");
+  CHECK(std::count(log.begin(), log.end(), "G28 X") == 1);
+  CHECK(std::count(log.begin(), log.end(), "M117 refused with the move") == 0);
+  CHECK(std::count(log.begin(), log.end(), "G92 E0") == 1);  // the file's own
+  CHECK(std::count(log.begin(), log.end(), "M220 S90") == 1);
+  CHECK(std::count(log.begin(), log.end(), "G1 X7 Y7") == 1);
+  CHECK(std::count(log.begin(), log.end(), "G1 Z10") == 1);
+}
+
+TEST_CASE("a print held in finishing by a console line (a heating wait) can still be cancelled") {
+  Fixture f("printer-cancel-finishing");
+  // Heating 5 times slower than real: M109 S250 would hold the link for minutes.
+  Printer p(f.sim("--advanced-ok --emergency-parser --time-scale 0.05 --heat-time-scale 5"), f.store,
+            f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  p.print(f.file("G1 X10 F3000\nG4 S20 ; a second\n"));
+  REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] >= 1; }));
+  p.command({"M109 S250"});  // behind the file's last line: the file is done before it is
+  REQUIRE(eventually([&] { return p.state() == PrinterState::finishing; }));
+  std::this_thread::sleep_for(300ms);
+  REQUIRE(p.state() == PrinterState::finishing);  // held by the heating wait
+  p.cancel();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }, 10s));
+  CHECK(status(p)["last_print"]["state"] == "cancelled");
   p.stop();
 }
 

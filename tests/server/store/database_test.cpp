@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <mutex>
 #include <regex>
@@ -193,9 +194,15 @@ TEST_CASE("a PostgreSQL connection that breaks fails its statement, then reconne
   REQUIRE(pid.step());
   const std::int64_t backend = pid.integer(0);
   pid.run();
-  other.prepare("SELECT pg_terminate_backend(CAST(? AS INTEGER))").bind(1, backend).run();
-  CHECK_THROWS_AS(count.step(), StoreError);  // not run again: it might have been a write that committed
-  REQUIRE(count.step());                      // a new session, where it is prepared again
+  // Ended while a statement runs (an idle one is revived before its next: the test below).
+  std::thread killer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    other.prepare("SELECT pg_terminate_backend(CAST(? AS INTEGER))").bind(1, backend).run();
+  });
+  auto slow = db.prepare("SELECT pg_sleep(10)");
+  CHECK_THROWS_AS(slow.step(), StoreError);  // not run again: it might have been a write that committed
+  killer.join();
+  REQUIRE(count.step());  // a new session, where it is prepared again
   CHECK(count.integer(0) == 0);
 }
 
@@ -245,4 +252,42 @@ TEST_CASE("concurrent writers: queue positions stay unique and each job starts o
   CHECK(*positions.rbegin() == 60);
   CHECK(started.size() == 40);
   CHECK(std::set<std::string>(started.begin(), started.end()).size() == 40);
+}
+
+TEST_CASE("PostgreSQL: a connection the server closed while idle (a restart) serves the next statement") {
+  const salient::test::ScratchDir scratch("reconnect");
+  Database a(test_database(scratch));
+  if (a.dialect() != Dialect::postgresql) return;  // SQLite has no server to lose
+  Database b(test_database(scratch));
+  auto pid_of_a = a.prepare("SELECT pg_backend_pid()");
+  REQUIRE(pid_of_a.step());
+  const std::int64_t pid = pid_of_a.integer(0);
+  pid_of_a.run();
+  // What a restart does to every idle connection: its backend ends.
+  b.prepare("SELECT pg_terminate_backend(CAST(? AS INTEGER))").bind(1, pid).run();
+  auto gone = b.prepare("SELECT COUNT(*) FROM pg_stat_activity WHERE pid = ?");
+  gone.bind(1, pid);
+  for (int i = 0; i < 100; ++i) {
+    REQUIRE(gone.step());
+    const bool ended = gone.integer(0) == 0;
+    gone.run();
+    if (ended) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  // The old code failed this statement (500 for each HTTP thread's next request) and reconnected after.
+  auto q = a.prepare("SELECT 41 + 1");
+  bool row = false;
+  CHECK_NOTHROW(row = q.step());
+  REQUIRE(row);
+  CHECK(q.integer(0) == 42);
+  q.run();
+  // Inside a transaction the loss is not hidden: the transaction went with the old session.
+  auto pid_again = a.prepare("SELECT pg_backend_pid()");
+  REQUIRE(pid_again.step());
+  const std::int64_t pid2 = pid_again.integer(0);
+  pid_again.run();
+  Database::Transaction t(a);
+  b.prepare("SELECT pg_terminate_backend(CAST(? AS INTEGER))").bind(1, pid2).run();
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  CHECK_THROWS_AS(a.prepare("SELECT 1").run(), StoreError);
 }

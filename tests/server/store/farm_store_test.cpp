@@ -180,6 +180,7 @@ TEST_CASE("farm requests: each taken once by its node, a cancelled one never, an
   CHECK_FALSE(taken.count(ids[0]));
   CHECK_FALSE(farm.answer(ids[0], {200, "[]", "late"}, 2));  // cancelled: its answer is dropped
   CHECK_FALSE(farm.answer_of(ids[0]));
+  CHECK_FALSE(farm.cancel(ids[1]));  // taken: its node runs it, a cancel cannot undo that
   CHECK(farm.answer(ids[1], {202, R"([["Location","/x"]])", R"({"state":"paused"})"}, 2));
   CHECK(farm.answer_of(ids[1])->status == 202);
   CHECK(farm.answer_of(ids[1])->body == R"({"state":"paused"})");

@@ -46,6 +46,30 @@ TEST_CASE("jobs: created queued, started oldest first, finished once, listed new
   CHECK_FALSE(jobs.get(b.id));
 }
 
+TEST_CASE("jobs: a finished job has no phase, in its row and as read (older rows kept 'toolpaths')") {
+  const salient::test::ScratchDir scratch("jobs");
+  Database db(salient::test::test_database(scratch));
+  JobStore jobs(db);
+  const auto phase_in_row = [&](const std::string& id) {
+    auto q = db.prepare("SELECT phase FROM jobs WHERE id = ?");
+    q.bind(1, std::string_view(id));
+    REQUIRE(q.step());
+    return q.text(0);
+  };
+  for (JobState end : {JobState::done, JobState::failed, JobState::cancelled}) {
+    const std::string id = jobs.create("bunny.obj", "m", "{}", "s", 1).id;
+    REQUIRE(jobs.claim("n1", 30, 2));
+    jobs.set_progress(id, JobPhase::toolpaths, 0.9);
+    CHECK(jobs.get(id)->phase == JobPhase::toolpaths);
+    REQUIRE(jobs.finish(id, {"n1", 1}, end, std::nullopt, std::nullopt, 3));
+    CHECK_MESSAGE(jobs.get(id)->phase == JobPhase::none, std::string(to_string(end)));
+    CHECK(phase_in_row(id).empty());
+    // A row a previous version finished with its last phase still reads as none.
+    db.prepare("UPDATE jobs SET phase = 'toolpaths' WHERE id = ?").bind(1, std::string_view(id)).run();
+    CHECK(jobs.get(id)->phase == JobPhase::none);
+  }
+}
+
 TEST_CASE("jobs: a restart puts running jobs back in the queue, with their attempts counted") {
   const salient::test::ScratchDir scratch("jobs");
   std::string id;
