@@ -1,5 +1,6 @@
 // The client commands, over a running salientd: `salient submit MODEL --wait`, `salient jobs`,
-// `salient watch JOB`, `salient printers`. Progress comes from the WebSocket, not from polling.
+// `salient watch JOB`, `salient printers`, `salient send PRINTER M105`. Progress comes from the
+// WebSocket, not from polling.
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
@@ -224,6 +225,36 @@ void add_client_commands(CLI::App& app, CommandAction& action) {
             std::fflush(stdout);
             return true;
           });
+          return 0;
+        });
+      };
+    });
+  }
+  {
+    struct SendOptions : ClientOptions {
+      std::string printer;
+      std::vector<std::string> commands;
+      bool force = false;
+    };
+    auto o = std::make_shared<SendOptions>();
+    CLI::App* cmd = app.add_subcommand(
+        "send", "Send G-code commands to a printer's console (e.g. salient send sim M105 \"M104 S200\")");
+    cmd->add_option("printer", o->printer, "Printer id")->required();
+    cmd->add_option("commands", o->commands, "G-code commands, one per argument")->required();
+    cmd->add_flag("--force", o->force,
+                  "Send moves and homing (G28, G1, …) even while the printer prints: they spoil the print");
+    add_client_options(*cmd, *o);
+    cmd->callback([o, &action] {
+      action = [o] {
+        return guarded([&] {
+          DaemonClient client(resolve_daemon(o->server, o->key));
+          json body = {{"commands", o->commands}};
+          if (o->force) body["force"] = true;
+          const DaemonReply r =
+              client.request("POST", "/api/v1/printers/" + o->printer + "/command", body.dump());
+          if (o->json) return std::printf("%s\n", r.body.c_str()), 0;
+          std::printf("sent %zu command%s to %s\n", o->commands.size(), o->commands.size() == 1 ? "" : "s",
+                      o->printer.c_str());
           return 0;
         });
       };

@@ -32,6 +32,9 @@ std::vector<Check> interference_checks();
 std::vector<Check> daemon_checks(const Options& options);
 // doctor_command.cpp: free space where the data directory is.
 Check disk_check(const std::string& data_dir);
+// The data directory the checks look at: `option`, else the installed daemon's (/var/lib/salient),
+// else a checkout's (./var); empty when there is none.
+std::string find_data_dir(const std::string& option);
 
 // A process by pid and name (/proc/PID/comm), for the checks that look at other processes.
 struct Process {

@@ -12,15 +12,16 @@
 namespace salient::cli {
 namespace doctor {
 
-Check disk_check(const std::string& option) {
-  std::string dir = option;
+std::string find_data_dir(const std::string& option) {
+  if (!option.empty()) return option;
   std::error_code ec;
-  if (dir.empty())
-    for (const char* candidate : {"/var/lib/salient", "var"})
-      if (std::filesystem::is_directory(candidate, ec)) {
-        dir = candidate;
-        break;
-      }
+  for (const char* candidate : {"/var/lib/salient", "var"})
+    if (std::filesystem::is_directory(candidate, ec)) return candidate;
+  return {};
+}
+
+Check disk_check(const std::string& option) {
+  const std::string dir = find_data_dir(option);
   if (dir.empty())
     return {Verdict::warn, "disk", "no data directory found (/var/lib/salient, ./var)",
             "--data DIR names it"};
@@ -86,7 +87,8 @@ void add_doctor_command(CLI::App& app, CommandAction& action) {
       "the key, the printers, disk space and the clock; one line each with a fix (exit 1: a check failed)");
   cmd->add_option("--server", options->server,
                   "salientd's URL (default: $SALIENT_SERVER or http://127.0.0.1:8080)");
-  cmd->add_option("--key", options->key, "API key (default: $SALIENT_API_KEY or var/api-key)");
+  cmd->add_option("--key", options->key,
+                  "API key (default: $SALIENT_API_KEY, else the data directory's api-key file)");
   cmd->add_option("--device", options->devices,
                   "A printer's device path to check too (e.g. its port in the config)");
   cmd->add_option("--data", options->data_dir,

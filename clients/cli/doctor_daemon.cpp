@@ -1,5 +1,10 @@
 // The daemon's side of `salient doctor`: reachable, the key accepted, its printers, its clock.
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdlib>
 #include <ctime>
+#include <fstream>
 #include <nlohmann/json.hpp>
 
 #include "clients/cli/daemon_client.hpp"
@@ -84,13 +89,31 @@ Check printer_check(const json& p) {
   return {Verdict::ok, name, state + device, ""};
 }
 
+// The key when none is given: the data directory's api-key file, which salientd writes at its first
+// start (/var/lib/salient/api-key once installed, readable by root and salient). `unreadable`: the
+// file is there but this user may not read it.
+std::string key_from_data_dir(const Options& o, std::string& unreadable) {
+  if (const char* env = std::getenv("SALIENT_API_KEY"); !o.key.empty() || (env && *env)) return o.key;
+  const std::string dir = find_data_dir(o.data_dir);
+  if (dir.empty()) return {};
+  const std::string path = dir + "/api-key";
+  std::ifstream f(path);
+  std::string key;
+  if (f)
+    std::getline(f, key);
+  else if (::access(path.c_str(), F_OK) == 0 || errno == EACCES)  // there, or its directory closed
+    unreadable = path;
+  return key;
+}
+
 }  // namespace
 
 std::vector<Check> daemon_checks(const Options& o) {
   std::vector<Check> out;
   DaemonAddress address;
+  std::string unreadable;
   try {
-    address = resolve_daemon(o.server, o.key);
+    address = resolve_daemon(o.server, key_from_data_dir(o, unreadable));
   } catch (const DaemonError& e) {
     return {{Verdict::fail, "daemon", e.what(), "--server http://HOST:PORT (or $SALIENT_SERVER)"}};
   }
@@ -113,6 +136,11 @@ std::vector<Check> daemon_checks(const Options& o) {
   out.push_back({Verdict::ok, "daemon", "salientd answers at " + where, ""});
   out.push_back(clock_check(health.date));
   out.push_back(database_check(health.body));
+  if (address.key.empty() && !unreadable.empty()) {
+    out.push_back({Verdict::fail, "key", "no API key given, and this user may not read " + unreadable,
+                   "run it as root (sudo salient doctor), or give the key: --key KEY or $SALIENT_API_KEY"});
+    return out;
+  }
   if (address.key.empty()) {
     out.push_back({Verdict::fail, "key", "no API key given",
                    "--key KEY or $SALIENT_API_KEY; the first key is in the data directory's api-key file "

@@ -48,6 +48,7 @@ nlohmann::json to_json(const core::PlacedModel& m) {
         {"unused_vertices_removed", r.unused_vertices_removed},
         {"degenerate_faces_removed", r.degenerate_faces_removed},
         {"duplicate_faces_removed", r.duplicate_faces_removed},
+        {"holes_filled", r.holes_filled},
         {"faces_flipped", r.faces_flipped}}},
       {"notes", r.lines()},
   };

@@ -41,16 +41,17 @@ void add_saliency_command(CLI::App& app, CommandAction& action) {
       resolve_auto_up(o->mesh, nullptr, o->json);
       const core::PlacedModel m = core::load_placed(o->mesh);
       const std::string name = std::filesystem::path(o->mesh.model).filename().string();
+      const core::Mesh surface = core::file_surface(m.loaded);  // without the caps repair added
       const auto t0 = std::chrono::steady_clock::now();
       const std::vector<float> s =
-          core::compute_saliency(m.loaded.mesh, *core::parse_saliency_method(o->method), name);
+          core::compute_saliency(surface, *core::parse_saliency_method(o->method), name);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!o->output.empty()) {
         std::vector<core::Color> colors(s.size());
         std::transform(s.begin(), s.end(), colors.begin(), core::heat_color);
-        core::write_ply(o->output, m.loaded.mesh, s, colors);
+        core::write_ply(o->output, surface, s, colors);
       }
-      if (!o->png.empty()) core::write_png(o->png, core::render_preview(m.loaded.mesh, s));
+      if (!o->png.empty()) core::write_png(o->png, core::render_preview(surface, s));
       double mean = 0;
       for (float v : s) mean += v;
       mean /= std::max<std::size_t>(1, s.size());

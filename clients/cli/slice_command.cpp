@@ -9,9 +9,11 @@
 
 #include "clients/cli/cli_options.hpp"
 #include "clients/cli/commands.hpp"
+#include "clients/cli/setting_options.hpp"
 #include "core/common/input_error.hpp"
 #include "core/pipeline/plan_report.hpp"
 #include "core/pipeline/slice_pipeline.hpp"
+#include "core/pipeline/slice_result_json.hpp"
 
 namespace salient::cli {
 namespace {
@@ -57,6 +59,10 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       const core::SliceResult r =
           core::slice_model(settings, printer, core::RunContext{nullptr, progress_line()});
       write_atomically(o->output, r.gcode);
+      if (o->json) {  // the job result's figures, by the same writer
+        std::fputs(core::slice_result_json(r, printer.id, cli_flag, 2).c_str(), stdout);
+        return 0;
+      }
       if (r.orientation) print_orientation(*r.orientation);
       if (r.segmentation) {
         std::printf("segmentation: %s; whole %.1f min, parts %.1f min, result %.1f min\n",
@@ -74,18 +80,8 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       if (r.plan.times)
         std::printf("estimated (%s): %s\n", r.segmentation ? "G-code" : "time model",
                     core::times_text(*r.plan.times, r.plan.min_layer, r.rsmd).c_str());
-      if (r.dropped_faces > 0)
-        std::printf("warning: %zu faces of zero or non-finite area were left out of the layer profile\n",
-                    r.dropped_faces);
-      if (r.open_contours > 0)
-        std::printf("warning: %zu open contours were left out (the mesh has holes wider than %.1f mm)\n",
-                    r.open_contours, settings.toolpaths.max_gap);
-      if (r.stream.starves())
-        std::printf(
-            "warning: the G-code needs up to %.0f commands per second, more than a %d-baud link carries "
-            "(%.0f): it would stutter over USB serial (try the profile's gcode.arc_fitting or a coarser "
-            "gcode.resolution)\n",
-            r.stream.peak_commands_per_second, r.stream.baud, r.stream.link_commands_per_second);
+      for (const core::SliceWarning& w : r.warnings)
+        std::printf("warning: %s\n", core::spell_settings(w.message, cli_flag).c_str());
       return 0;
     };
   });

@@ -81,7 +81,10 @@ struct PlanDocument {
   std::string model;  // the model's file name
   std::string planner, metric;
   std::string objective;  // what `exact` minimised: "time" or "layers" (empty: not recorded)
-  double height = 0;      // the placed model's height, mm
+  // The saliency that weighed the plan, as saliency_text names it: "spectral saliency", "painted
+  // saliency from F" (empty: not recorded).
+  std::string saliency_method;
+  double height = 0;                              // the placed model's height, mm
   double grid = 0, min_layer = 0, max_layer = 0;  // mm
   int fine_layers = 0, coarse_layers = 0;         // all layers at min_layer, at max_layer
   double error = 0, rsmd = 0;                     // E and RSMD of the whole plan

@@ -163,6 +163,7 @@ std::string plan_json(const PlanDocument& p, int indent) {
   };
   if (!p.note.empty()) j["note"] = p.note;
   if (!p.objective.empty()) j["objective"] = p.objective;
+  if (!p.saliency_method.empty()) j["saliency_method"] = p.saliency_method;
   if (p.times) j["times"] = times_object(*p.times);
   if (!p.trace.empty()) {
     json trace = json::array();
@@ -217,6 +218,7 @@ PlanDocument read_plan_json(std::string_view text, const std::string& name) {
   out.seconds = in.optional_number(j, "seconds", "seconds").value_or(0);
   out.note = in.text(j, "note");
   out.objective = in.text(j, "objective");
+  out.saliency_method = in.text(j, "saliency_method");
   if (const auto t = j.find("times"); t != j.end() && t->is_object()) {
     PlanTimes times;
     const auto number = [&](const char* key) {

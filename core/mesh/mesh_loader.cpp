@@ -1,6 +1,8 @@
 // load_mesh: read, repair, and reject meshes that nothing printable is left of.
 #include "core/mesh/mesh_loader.hpp"
 
+#include <algorithm>
+
 #include "core/common/input_error.hpp"
 
 namespace salient::core {
@@ -18,6 +20,12 @@ LoadedMesh repair_loaded(MeshFile file, const std::string& source, const RepairO
                      "no usable triangles: all " + std::to_string(out.triangles_read) +
                          " faces are degenerate (zero area or repeated vertices)");
   }
+  return out;
+}
+
+Mesh file_surface(const LoadedMesh& loaded) {
+  Mesh out = loaded.mesh;
+  out.triangles.resize(out.triangles.size() - std::min(loaded.repair.cap_faces, out.triangles.size()));
   return out;
 }
 

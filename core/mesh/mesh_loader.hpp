@@ -19,6 +19,10 @@ struct LoadedMesh {
   RepairReport repair;
 };
 
+// The surface the file describes, without the caps repair closed its holes with: what saliency is
+// computed on (a cap is no surface a viewer sees; it adds no vertex, so per-vertex values carry).
+Mesh file_surface(const LoadedMesh& loaded);
+
 // Throws InputError for unreadable files and for meshes with no usable triangle left.
 LoadedMesh load_mesh(const std::filesystem::path& path, const RepairOptions& options = {});
 LoadedMesh load_mesh(std::string_view bytes, const std::string& source, const RepairOptions& options = {});

@@ -9,6 +9,8 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "core/mesh/hole_filler.hpp"
+
 namespace salient::core {
 namespace {
 
@@ -273,6 +275,7 @@ std::vector<std::string> RepairReport::lines() const {
   say(degenerate_faces_removed, "degenerate faces removed");
   say(duplicate_faces_removed, "duplicate faces removed");
   say(faces_flipped, "faces flipped to a consistent orientation");
+  say(holes_filled, "holes closed");
   say(boundary_edges, "open boundary edges left (mesh is not closed)");
   say(non_manifold_edges, "non-manifold edges left");
   if (!orientable) out.push_back("no consistent orientation exists (non-orientable surface)");
@@ -285,12 +288,24 @@ RepairReport repair_mesh(Mesh& mesh, const RepairOptions& options) {
   report.degenerate_faces_removed = remove_degenerate_faces(mesh);
   report.duplicate_faces_removed = remove_duplicate_faces(mesh);
   report.unused_vertices_removed = remove_unused_vertices(mesh) - report.vertices_welded;
-  std::vector<bool> flip(mesh.triangles.size(), false);
-  analyse(mesh, report, options.fix_orientation ? &flip : nullptr);
-  for (std::size_t f = 0; f < flip.size(); ++f) {
-    if (!flip[f]) continue;
-    std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
-    ++report.faces_flipped;
+  // Flips to the orientation analyse decides; counts each face flipped.
+  const auto orient = [&] {
+    std::vector<bool> flip(mesh.triangles.size(), false);
+    analyse(mesh, report, options.fix_orientation ? &flip : nullptr);
+    for (std::size_t f = 0; f < flip.size(); ++f) {
+      if (!flip[f]) continue;
+      std::swap(mesh.triangles[f][1], mesh.triangles[f][2]);
+      ++report.faces_flipped;
+    }
+  };
+  orient();
+  // Only an oriented mesh tells which side a cap faces. A part the caps close is oriented again:
+  // open, it kept its majority's side, which may be inward; closed, it now faces outward.
+  if (options.fill_holes && options.fix_orientation && report.orientable && report.boundary_edges > 0) {
+    const HoleFilling filled = fill_holes(mesh);
+    report.holes_filled = filled.holes_filled;
+    report.cap_faces = filled.faces_added;
+    if (report.holes_filled > 0) orient();
   }
   return report;
 }

@@ -1,5 +1,5 @@
 // Mesh checks and repairs: weld, drop degenerate and duplicate faces, report boundary and
-// non-manifold edges, make orientation consistent (outward for closed parts).
+// non-manifold edges, make orientation consistent (outward for closed parts), close holes.
 #pragma once
 
 #include <string>
@@ -13,6 +13,8 @@ struct RepairOptions {
   // Vertices closer than this fraction of the bounding-box diagonal are welded into one.
   double weld_tolerance = 1e-6;
   bool fix_orientation = true;
+  // Caps holes (hole_filler.hpp) once the orientation is consistent; needs fix_orientation.
+  bool fill_holes = true;
 };
 
 struct RepairReport {
@@ -21,8 +23,10 @@ struct RepairReport {
   std::size_t degenerate_faces_removed = 0;  // repeated vertex or zero area
   std::size_t duplicate_faces_removed = 0;   // same three vertices as an earlier face
   std::size_t faces_flipped = 0;             // to agree with their neighbours / face outward
+  std::size_t holes_filled = 0;              // hole loops capped (open bottoms, sockets)
+  std::size_t cap_faces = 0;                 // the faces capping them: the mesh's last ones
   std::size_t components = 0;                // edge-connected parts
-  std::size_t boundary_edges = 0;            // used by one face: the mesh is open there
+  std::size_t boundary_edges = 0;            // used by one face, after filling: the mesh is open there
   std::size_t non_manifold_edges = 0;        // used by three or more faces
   bool orientable = true;                    // false if no consistent orientation exists
   bool watertight = false;                   // closed and manifold

@@ -30,4 +30,8 @@ struct PlacedModel {
 // repair, so it follows welding and compaction.
 PlacedModel load_placed(const MeshOptions& options, const std::string& values_file = {});
 
+// Places a loaded `mesh` in place as load_placed does (`options.model` unused): for a front end
+// that has the mesh already and checks its placed size. Throws InputError as load_placed.
+Placement place_by_options(Mesh& mesh, const MeshOptions& options);
+
 }  // namespace salient::core

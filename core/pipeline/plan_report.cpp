@@ -18,6 +18,7 @@ PlanDocument common(const PlanningSetup& setup, const std::string& model, const 
   d.model = model;
   d.planner = planner;
   d.metric = std::string(metric_name(setup.objective->metric()));
+  d.saliency_method = setup.saliency_text;
   d.height = p.height();
   d.grid = p.grid();
   d.min_layer = p.params().min_layer;

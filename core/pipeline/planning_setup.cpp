@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "core/common/input_error.hpp"
+#include "core/pipeline/slice_warning.hpp"
 #include "core/saliency/saliency.hpp"
 
 namespace salient::core {
@@ -38,11 +39,17 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   auto s = std::make_unique<PlanningSetup>();
   run.report("load", 0);
   s->model = load_placed(o.mesh, o.saliency_file);
+  // Before saliency: the placed model's size decides the work every later phase does.
+  check_work_bounds(s->model.placement.bounds, o.mesh, o.min_layer, o.grid, o.build_volume);
   run.check();
   const std::string name = std::filesystem::path(o.mesh.model).filename().string();
+  check_printable_height(s->model.placement.bounds, o.first_layer, name);  // before the saliency
   run.report("saliency", 0);
-  s->saliency = o.saliency_cache ? o.saliency_cache->get(s->model.loaded.mesh, method, name, run)
-                                 : compute_saliency(s->model.loaded.mesh, method, name, run);
+  // On the file's own surface: a cap over a hole is not what a viewer looks at, and a cap over a
+  // flat sheet would give the remesher a zero-thickness solid.
+  const Mesh surface = file_surface(s->model.loaded);
+  s->saliency = o.saliency_cache ? o.saliency_cache->get(surface, method, name, run)
+                                 : compute_saliency(surface, method, name, run);
   run.check();
   s->profile = std::make_unique<ZProfile>(ZProfile::build(s->model.loaded.mesh, s->saliency, params, run));
   s->objective = std::make_unique<Objective>(*s->profile, metric, false);
@@ -55,6 +62,7 @@ std::unique_ptr<PlanningSetup> prepare(const PlanOptions& o, const RunContext& r
   s->default_layer = o.default_layer;
   s->rho = o.rho.value_or(0.05);
   s->seed = o.seed;
+  s->saliency_text = saliency_text(o);
   return s;
 }
 

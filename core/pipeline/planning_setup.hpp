@@ -9,6 +9,7 @@
 
 #include "core/common/progress.hpp"
 #include "core/pipeline/placed_model.hpp"
+#include "core/pipeline/work_bounds.hpp"
 #include "core/saliency/saliency.hpp"
 #include "core/saliency/saliency_cache.hpp"
 #include "core/slicing/objective.hpp"
@@ -37,6 +38,7 @@ struct PlanOptions {
   double first_layer = 0.2, default_layer = 0.2;
   TimeModelParams time_model;
   SaliencyCache* saliency_cache = nullptr;  // not a setting: where a caller keeps saliency for reuse
+  std::optional<BuildVolume> build_volume;  // not a setting: the printer's, where there is one
 };
 
 // Everything a planner needs, built once. Members refer to each other: not copyable.
@@ -51,6 +53,7 @@ struct PlanningSetup {
   double default_layer = 0.2;  // mm
   double rho = 0.05;
   std::uint64_t seed = 1;
+  std::string saliency_text;  // what made `saliency`, as saliency_text(options) names it
 
   PlanRequest request(PlanTarget target) const;
 };

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "core/common/input_error.hpp"
@@ -102,6 +103,86 @@ void keep_quicker_on_gcode(const PlanningSetup& setup, const Planner& planner, c
                  " s), so it is kept";
 }
 
+// Without support, the printed layers must stand on the bed, each on the one below: where an
+// open mesh's sections are left out (holes wider than max_gap, an open bottom), the layers above
+// would be printed in mid-air. Throws InputError saying where the gap is.
+void check_layers_stand(const std::vector<LayerToolpaths>& layers, const std::string& model_name,
+                        std::size_t open_contours) {
+  const auto empty = [&](std::size_t i) { return layers[i].region.empty(); };
+  std::size_t first = 0;
+  while (first < layers.size() && empty(first)) ++first;
+  if (first == layers.size() && open_contours == 0) {
+    throw InputError(model_name, {},
+                     "no layer has an outline with any area: nothing would print. The model is a surface "
+                     "without thickness (a sheet, not a solid); give it a thickness in a modelling tool");
+  }
+  if (first == layers.size()) {
+    throw InputError(model_name, {},
+                     "no layer has a closed outline: nothing would print (" + std::to_string(open_contours) +
+                         " open contours were left out: the mesh is open). Close its holes in a mesh "
+                         "repair tool first");
+  }
+  // [from, to): layers with nothing under a printed one.
+  std::size_t from = 0, to = first;
+  for (std::size_t i = first + 1; i < layers.size() && to == 0;) {
+    std::size_t j = i;
+    while (j < layers.size() && empty(j)) ++j;
+    if (j > i && j < layers.size()) from = i, to = j;
+    i = j + 1;
+  }
+  if (to == 0) return;
+  std::ostringstream where;
+  where.precision(3);
+  where << "nothing would print from " << layers[from].z_bottom << " to " << layers[to].z_bottom
+        << " mm, so the layers above would start in mid-air, not on the bed or a layer below";
+  throw InputError(model_name, {},
+                   where.str() + " (" + std::to_string(open_contours) +
+                       " open contours were left out there: the mesh has holes, e.g. an open bottom, that "
+                       "repair could not close). Close them in a mesh repair tool, or turn on {support}");
+}
+
+// Layers whose sections were only open chains, filled from the layers around them: printable,
+// but their outline is a guess the owner should see in the preview.
+std::optional<SliceWarning> filled_layers_warning(const std::vector<LayerToolpaths>& layers) {
+  std::size_t count = 0;
+  const LayerToolpaths *first = nullptr, *last = nullptr;
+  for (const LayerToolpaths& l : layers) {
+    if (!l.filled) continue;
+    ++count;
+    if (!first) first = &l;
+    last = &l;
+  }
+  if (count == 0) return std::nullopt;
+  std::ostringstream text;
+  text.precision(3);
+  text << count << (count == 1 ? " layer" : " layers") << " between " << first->z_bottom << " and "
+       << last->z_top
+       << " mm had only open contours (tears in the mesh) and took the outline of the layers around them: "
+          "check them in the preview, or repair the mesh";
+  return SliceWarning{"layers_filled", text.str()};
+}
+
+std::vector<SliceWarning> left_out_warnings(const SliceResult& r, double max_gap) {
+  std::vector<SliceWarning> out;
+  if (r.dropped_faces > 0)
+    out.push_back(
+        {"faces_left_out", std::to_string(r.dropped_faces) +
+                               " faces of zero or non-finite area were left out of the layer profile"});
+  if (r.open_contours > 0)
+    out.push_back({"open_contours", std::to_string(r.open_contours) +
+                                        " open contours were left out (the mesh has holes wider than " +
+                                        mm(max_gap) + ")"});
+  if (r.stream.starves())
+    out.push_back(
+        {"stream_starves",
+         "the G-code needs up to " + std::to_string(std::lround(r.stream.peak_commands_per_second)) +
+             " commands per second, more than a " + std::to_string(r.stream.baud) + "-baud link carries (" +
+             std::to_string(std::lround(r.stream.link_commands_per_second)) +
+             "): it would stutter over USB serial (try the profile's gcode.arc_fitting or a "
+             "coarser gcode.resolution)"});
+  return out;
+}
+
 }  // namespace
 
 SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const RunContext& run) {
@@ -119,6 +200,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   if (s.max_layer_from_printer) plan.max_layer = printer.max_layer;
   plan.mesh.bed_center_x = printer.bed_center_x();
   plan.mesh.bed_center_y = printer.bed_center_y();
+  plan.build_volume = BuildVolume{printer.bed_width, printer.bed_depth, printer.max_height};
   plan.first_layer = printer.first_layer_height;
   plan.default_layer = printer.default_layer_height;
   plan.time_model = time_model_params(printer, s.toolpaths, GcodeSettings{});
@@ -131,6 +213,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.orientation = std::move(orientation);
   out.dropped_faces = p.dropped_faces();
   out.model_name = std::filesystem::path(plan.mesh.model).filename().string();
+  out.warnings = model_size_warnings(setup->model.placement.bounds, printer, out.model_name);
   const auto t0 = std::chrono::steady_clock::now();
   const auto planning_seconds = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -172,6 +255,9 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   boundaries.insert(boundaries.end(), out.z.begin(), out.z.end());
   auto toolpaths = region_toolpaths(setup->model.loaded.mesh, p, regions, region_settings, run);
   run.check();
+  for (const auto& l : toolpaths) out.open_contours += l.open_chains;
+  if (!s.support) check_layers_stand(toolpaths, out.model_name, out.open_contours);
+  const std::optional<SliceWarning> filled = filled_layers_warning(toolpaths);
   run.report("gcode", 0);
   out.layers = static_cast<int>(out.z.size());
   out.finest_layers = p.most_layers();
@@ -192,7 +278,9 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.print_seconds = g.seconds;
   out.filament_mm = g.filament_mm;
   out.stream = g.stream;
-  for (const auto& l : toolpaths) out.open_contours += l.open_chains;
+  const std::vector<SliceWarning> left_out = left_out_warnings(out, s.toolpaths.max_gap);
+  out.warnings.insert(out.warnings.end(), left_out.begin(), left_out.end());
+  if (filled) out.warnings.push_back(*filled);
   if (s.artefacts) {
     const Mesh& mesh = setup->model.loaded.mesh;
     const std::string title = out.model_name + " — " + std::string(to_string(plan.planner)) + ", " +

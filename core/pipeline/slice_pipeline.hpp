@@ -16,6 +16,7 @@
 #include "core/orient/orientation.hpp"
 #include "core/pipeline/planning_setup.hpp"
 #include "core/pipeline/segmented_slicing.hpp"
+#include "core/pipeline/slice_warning.hpp"
 #include "core/printer/printer_profile.hpp"
 #include "core/segment/seg_opt.hpp"
 #include "core/toolpath/support_generator.hpp"
@@ -43,6 +44,10 @@ struct SliceResult {
   std::size_t open_contours = 0;  // left out: holes in the mesh wider than toolpaths.max_gap
   std::size_t dropped_faces = 0;  // left out of the layer profile: zero or non-finite area
   std::string model_name;
+  // What the owner should know before printing, in the order found: the model's size as placed,
+  // faces and contours left out, a G-code denser than the serial link. The fields above hold
+  // the counts; these say them, each with its fix.
+  std::vector<SliceWarning> warnings;
   // With SliceSettings::artefacts: the plan's plot (SVG), the placed model with the plan as
   // PrusaSlicer's layer-height profile (3MF), and the saliency as vertex quality and colour (PLY).
   std::string plot_svg, model_3mf, saliency_ply;
@@ -66,7 +71,9 @@ TimeModelParams time_model_params(const PrinterProfile& printer, const ToolpathS
 // compare's SegOpt rows) uses these, so that it times what slice prints.
 RegionSliceSettings region_slice_settings(const SliceSettings& settings, const PrinterProfile& printer);
 
-// Throws InputError naming the setting or file at fault, Cancelled when run.cancel fires.
+// Throws InputError naming the setting or file at fault, Cancelled when run.cancel fires; also
+// when nothing of the model would print (lower than the first layer) and, without support, when
+// the printed layers do not stand on the bed (an open mesh's lowest sections left out).
 // plan.mesh.up = "auto" first chooses the orientation (core/pipeline/auto_orient, phase "orient").
 SliceResult slice_model(SliceSettings settings, const PrinterProfile& printer, const RunContext& run);
 

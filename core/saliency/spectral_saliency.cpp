@@ -38,6 +38,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "core/common/input_error.hpp"
 #include "core/geometry/point_grid.hpp"
 #include "core/mesh/vertex_adjacency.hpp"
 #include "core/saliency/mesh_simplifier.hpp"
@@ -51,6 +52,10 @@ namespace {
 
 // The scale-space unit ε as a share of M′'s mean edge length c (see the opening comment).
 constexpr double kScaleOverEdge = 0.7;
+
+// The largest working mesh per 1,000 asked for: remeshing lands near the target; 2,500 vertices
+// are 50 MB a matrix (four of them a decomposition) and a few seconds each.
+constexpr std::size_t kMostWorkingVertices = 2500;
 
 // Positions Gaussian-smoothed with per-vertex variance t·k(i) over Euclidean neighbours within
 // 2.5 standard deviations.
@@ -244,6 +249,15 @@ std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& o
   const Mesh mesh = canonical_copy(input);
   const Mesh work = working_mesh(mesh, options.working_vertices);
   run.check();
+  // Each decomposition holds a few n×n matrices and takes n³ steps: a mesh the collapse cannot
+  // reduce (thousands of loose triangles, none sharing an edge) would ask for gigabytes and hours.
+  const std::size_t most = kMostWorkingVertices * std::max<std::size_t>(options.working_vertices, 1) / 1000;
+  if (work.vertex_count() > most)
+    throw InputError(SettingId::saliency,
+                     "spectral could only simplify the model to " + std::to_string(work.vertex_count()) +
+                         " vertices, more than the " + std::to_string(most) +
+                         " it can work on (the model's triangles share too few edges); use {saliency} lee05 "
+                         "or uniform");
   run.report("saliency", 0.1);
   const VertexAdjacency adj(work);
   const std::vector<double> k = scale_factors(work, adj);

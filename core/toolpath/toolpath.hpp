@@ -25,6 +25,7 @@ struct LayerToolpaths {
   // Areas (mm²) the paths are meant to fill, for checks: walls, solid infill, sparse infill.
   double wall_area = 0, solid_area = 0, sparse_area = 0;
   std::size_t open_chains = 0;  // section chains left open (holes in the mesh)
+  bool filled = false;          // its section was all open chains: taken from the layers around it
   Polygons region;              // the layer's outline (travel inside it needs no retraction)
   Polygons sparse;              // where its sparse infill goes (filled in a second pass)
 

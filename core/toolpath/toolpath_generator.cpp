@@ -148,6 +148,35 @@ void add_sparse_infill(std::vector<LayerToolpaths>& layers, const ToolpathSettin
 
 namespace {
 
+// A run of layers no taller than this whose sections were all open chains, between layers that
+// have an outline, is filled from them. A taller run would be a guessed shape: refused later.
+constexpr double max_filled_run = 1.0;  // mm
+
+// As PrusaSlicer's fix_slicing_errors: a layer whose section is only open chains (a tear the
+// chain closing could not bridge, e.g. where separate eyeballs cut a head's sockets) takes the
+// outline common to the nearest good layers below and above, so the model above is not printed
+// on air. Marks them `filled` for the result's warning.
+void fill_open_layers(std::vector<Polygons>& regions, const std::vector<double>& z,
+                      std::vector<LayerToolpaths>& out) {
+  const auto bad = [&](std::size_t i) { return regions[i].empty() && out[i].open_chains > 0; };
+  for (std::size_t i = 1; i < regions.size(); ++i) {
+    if (!bad(i) || regions[i - 1].empty()) continue;
+    std::size_t j = i;
+    while (j < regions.size() && bad(j)) ++j;
+    if (j == regions.size() || regions[j].empty() || z[j] - z[i] > max_filled_run + 1e-9) {
+      i = j;
+      continue;
+    }
+    const Polygons common = intersection_of(regions[i - 1], regions[j]);
+    for (std::size_t k = i; k < j; ++k) {
+      regions[k] = common;
+      out[k].region = common;
+      out[k].filled = !common.empty();
+    }
+    i = j;
+  }
+}
+
 // Layers [first, last) of `z`'s layers are built; the others are context only (a region's slab
 // inside the model: what lies above and below it decides where its skins go).
 std::vector<LayerToolpaths> build_layers(const Mesh& mesh, const std::vector<double>& z, std::size_t first,
@@ -170,6 +199,7 @@ std::vector<LayerToolpaths> build_layers(const Mesh& mesh, const std::vector<dou
     out[i].z_top = z[i + 1];
     out[i].open_chains = sections[i].open_chains;
   }
+  fill_open_layers(regions, z, out);
   // Layers only read each other's regions: in parallel, in blocks so progress and cancellation
   // stay on the calling thread.
   constexpr std::size_t block = 64;
@@ -241,6 +271,7 @@ std::vector<LayerToolpaths> merge_by_print_height(const std::vector<std::vector<
     target.solid_area += layer->solid_area;
     target.sparse_area += layer->sparse_area;
     target.open_chains += layer->open_chains;
+    target.filled = target.filled || layer->filled;
   }
   for (LayerToolpaths& layer : out) layer.region = union_of(layer.region);
   return out;

@@ -52,6 +52,11 @@ line ok clock "(0|1) s"
 line ok database "sqlite answers in [0-9.]+ ms, schema [0-9]+ \\(node "
 line ok disk "MB free"
 
+echo "no key given: the data directory's api-key is found, as after apt install (/var/lib/salient):"
+unset SALIENT_API_KEY
+doctor 0
+line ok key "accepted"
+
 echo "a wrong key:"
 doctor 1 --key "x$key"
 line FAIL key "HTTP 401"
@@ -76,6 +81,14 @@ if [ "$(id -u)" = 0 ] && command -v setpriv > /dev/null; then
   line FAIL access "$device: this user is not in group"
   grep -q "usermod -aG" doctor.out || fail "the access fix does not say which group to join"
   line ok "in use" "other users' are hidden"
+  echo "no key given, and this user may not read the data directory's api-key:"
+  got=0
+  setpriv --reuid=65534 --regid=65534 --clear-groups "$salient" doctor --server "$base" --data data \
+    > doctor.out 2>&1 || got=$?
+  sed 's/^/  | /' doctor.out
+  [ "$got" = 1 ] || fail "doctor as nobody without a key: exit $got"
+  line FAIL key "may not read data/api-key"
+  grep -q "sudo salient doctor" doctor.out || fail "the key fix does not say to run it as root"
 fi
 
 echo "the printer unplugged:"

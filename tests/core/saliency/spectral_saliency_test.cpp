@@ -7,10 +7,12 @@
 
 #include <Eigen/Dense>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numeric>
 #include <random>
 
+#include "core/common/input_error.hpp"
 #include "core/mesh/mesh_loader.hpp"
 #include "core/mesh/vertex_adjacency.hpp"
 #include "core/saliency/mesh_simplifier.hpp"
@@ -130,4 +132,28 @@ TEST_CASE("tiny meshes: one triangle, and no vertices") {
   REQUIRE(s.size() == 3);
   for (double v : s) CHECK(std::isfinite(v));
   CHECK(spectral_irregularity(Mesh{}).empty());
+}
+
+TEST_CASE("loose triangles the collapse cannot reduce are refused in seconds, not decomposed for hours") {
+  // 3,000 triangles sharing no vertex: 9,000 vertices stay after the collapse, whose matrices would
+  // take 2.6 GB a decomposition (the hostile 20,000 took ten minutes, then std::bad_alloc).
+  Mesh mesh;
+  std::mt19937 random(17);
+  std::uniform_real_distribution<double> at(0, 50), jitter(-1, 1);
+  for (std::uint32_t t = 0; t < 3000; ++t) {
+    const Vec3 c{at(random), at(random), at(random)};
+    for (int k = 0; k < 3; ++k)
+      mesh.positions.push_back(c + Vec3{jitter(random), jitter(random), jitter(random)});
+    mesh.triangles.push_back({3 * t, 3 * t + 1, 3 * t + 2});
+  }
+  const auto start = std::chrono::steady_clock::now();
+  try {
+    spectral_saliency(mesh);
+    FAIL("a working mesh of thousands of vertices is refused");
+  } catch (const InputError& e) {
+    REQUIRE(e.setting());
+    CHECK(*e.setting() == SettingId::saliency);
+    CHECK(std::string(e.what()).find("lee05") != std::string::npos);
+  }
+  CHECK(std::chrono::steady_clock::now() - start < std::chrono::seconds(20));
 }
