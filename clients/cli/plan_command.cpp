@@ -66,7 +66,7 @@ int plan_segmented(const PlanCommandOptions& o, const core::PlanningSetup& setup
               std::string(core::to_string(o.plan.planner)).c_str(),
               std::string(core::to_string(o.plan.metric)).c_str(), core::saliency_text(o.plan).c_str());
   std::printf("  layers   %zu printed heights (fine %d)\n  time     %.3f s\n", heights.size(),
-              p.most_layers(), seconds);
+              core::finest_layer_count(p, setup.first_cells), seconds);
   if (plan.times)
     std::printf("  print    %s (estimated on the G-code)\n",
                 core::times_text(*plan.times, p.params().min_layer, plan.rsmd).c_str());
@@ -125,9 +125,11 @@ void add_plan_command(CLI::App& app, CommandAction& action) {
       std::printf("%s: %s planner, %s metric, %s\n", name.c_str(),
                   std::string(core::to_string(o->plan.planner)).c_str(),
                   std::string(core::to_string(o->plan.metric)).c_str(), core::saliency_text(o->plan).c_str());
+      // Counted as the fine and coarse planners plan them, with the fixed first layer.
+      const int fine = core::finest_layer_count(p, setup->first_cells);
       std::printf("  layers   %d (fine %d, coarse %d): %.1f%% fewer than fine\n", result.plan.layer_count(),
-                  p.most_layers(), p.fewest_layers(),
-                  100.0 * (1 - double(result.plan.layer_count()) / p.most_layers()));
+                  fine, core::fewest_layer_count(p, setup->first_cells),
+                  100.0 * (1 - double(result.plan.layer_count()) / fine));
       std::printf("  E        %.6g", setup->objective->error(result.plan));
       if (target.epsilon) std::printf(" (epsilon %.6g = %.3g x E(coarse))", *target.epsilon, setup->rho);
       std::printf("\n  RSMD     %.6g\n  time     %.3f s\n", setup->objective->rsmd(result.plan), seconds);

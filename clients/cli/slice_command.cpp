@@ -71,14 +71,15 @@ void add_slice_command(CLI::App& app, CommandAction& action) {
       }
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       std::printf(
-          "%s: %d layers (finest %d, %.1f%% fewer), RSMD %.4f, for %s; print %.0f min, %.2f m filament; "
+          "%s: %d layers (finest %d, %.1f%% fewer), RSMD %.4f, for %s; print %s, %.2f m filament; "
           "sliced in %.2f s "
           "-> %s\n",
           r.model_name.c_str(), r.layers, r.finest_layers, 100.0 * (1 - double(r.layers) / r.finest_layers),
-          r.rsmd, printer.name.c_str(), r.print_seconds / 60, r.filament_mm / 1000, seconds,
-          o->output.c_str());
+          r.rsmd, printer.name.c_str(), core::duration_text(r.print_seconds).c_str(), r.filament_mm / 1000,
+          seconds, o->output.c_str());
       if (r.plan.times)
-        std::printf("estimated (%s): %s\n", r.segmentation ? "G-code" : "time model",
+        std::printf("against uniform layers (%s): %s\n",
+                    r.segmentation ? "each one's G-code" : "the time model, scaled to this G-code's estimate",
                     core::times_text(*r.plan.times, r.plan.min_layer, r.rsmd).c_str());
       for (const core::SliceWarning& w : r.warnings)
         std::printf("warning: %s\n", core::spell_settings(w.message, cli_flag).c_str());

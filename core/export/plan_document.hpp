@@ -65,6 +65,8 @@ struct PlanTimes {
   double default_seconds = 0, default_rsmd = 0;
 
   double saving_vs_fine() const { return fine_seconds - plan_seconds; }  // s
+  // All three times × k (their ratios, the savings in per cent, kept).
+  void scale(double k) { plan_seconds *= k, fine_seconds *= k, default_seconds *= k; }
   double saving_vs_default() const { return default_seconds - plan_seconds; }
   double saving_vs_fine_percent() const {
     return fine_seconds > 0 ? 100 * saving_vs_fine() / fine_seconds : 0;

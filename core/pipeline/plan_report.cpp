@@ -23,8 +23,8 @@ PlanDocument common(const PlanningSetup& setup, const std::string& model, const 
   d.grid = p.grid();
   d.min_layer = p.params().min_layer;
   d.max_layer = p.params().max_layer;
-  d.fine_layers = p.most_layers();
-  d.coarse_layers = p.fewest_layers();
+  d.fine_layers = finest_layer_count(p, setup.first_cells);
+  d.coarse_layers = fewest_layer_count(p, setup.first_cells);
   d.seconds = seconds;
   return d;
 }

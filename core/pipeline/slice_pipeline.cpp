@@ -131,12 +131,19 @@ void check_layers_stand(const std::vector<LayerToolpaths>& layers, const std::st
     i = j + 1;
   }
   if (to == 0) return;
+  std::size_t open_there = 0;
+  for (std::size_t i = from; i < to; ++i) open_there += layers[i].open_chains;
   std::ostringstream where;
   where.precision(3);
   where << "nothing would print from " << layers[from].z_bottom << " to " << layers[to].z_bottom
         << " mm, so the layers above would start in mid-air, not on the bed or a layer below";
+  if (open_there == 0)
+    throw InputError(model_name, {},
+                     where.str() +
+                         " (a part floats above the rest: nothing joins it to what is below). "
+                         "Turn on {support}, or join or lower it in a modelling tool");
   throw InputError(model_name, {},
-                   where.str() + " (" + std::to_string(open_contours) +
+                   where.str() + " (" + std::to_string(open_there) +
                        " open contours were left out there: the mesh has holes, e.g. an open bottom, that "
                        "repair could not close). Close them in a mesh repair tool, or turn on {support}");
 }
@@ -260,7 +267,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   const std::optional<SliceWarning> filled = filled_layers_warning(toolpaths);
   run.report("gcode", 0);
   out.layers = static_cast<int>(out.z.size());
-  out.finest_layers = p.most_layers();
+  out.finest_layers = finest_layer_count(p, setup->first_cells);
   GcodeSettings gs;
   gs.summary = {"model = " + out.model_name,
                 "planner = " + std::string(to_string(plan.planner)) + ", metric " +
@@ -276,6 +283,13 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   GcodeResult g = write_gcode(toolpaths, printer, gs);
   out.gcode = std::move(g.text);
   out.print_seconds = g.seconds;
+  // One print time everywhere: the G-code's estimate. The uniform prints beside it are the time
+  // model's, scaled by this plan's estimate over its model time (the model is off the estimator
+  // by much the same per cent for the three plans; support and travel count alike), so that
+  // "print", the job's print_seconds and times.plan_s are one figure and the savings keep their
+  // ratios. A segmented plan's times are the G-code's already.
+  if (out.plan.times && !out.segmentation && out.plan.times->plan_seconds > 0 && g.seconds > 0)
+    out.plan.times->scale(g.seconds / out.plan.times->plan_seconds);
   out.filament_mm = g.filament_mm;
   out.stream = g.stream;
   const std::vector<SliceWarning> left_out = left_out_warnings(out, s.toolpaths.max_gap);

@@ -44,8 +44,8 @@ Comparison compare_planners(const PlanRequest& base, double rho, std::span<const
   Comparison out;
   out.rho = rho;
   out.epsilon = obj.epsilon(rho);
-  out.fine_layers = obj.profile().most_layers();
-  out.coarse_layers = obj.profile().fewest_layers();
+  out.fine_layers = finest_layer_count(obj.profile(), base.first_cells);
+  out.coarse_layers = fewest_layer_count(obj.profile(), base.first_cells);
   auto request = [&](PlanTarget target) { return with_target(base, target); };
   const PlanResult reference = make_planner("exact")->plan(request(PlanTarget::within(out.epsilon)));
   out.reference_layers = reference.plan.layer_count();
@@ -59,8 +59,8 @@ Comparison compare_with_plan(const PlanRequest& base, const LayerPlan& given, co
                              std::span<const std::string_view> planners) {
   const Objective& obj = base.objective;
   Comparison out;
-  out.fine_layers = obj.profile().most_layers();
-  out.coarse_layers = obj.profile().fewest_layers();
+  out.fine_layers = finest_layer_count(obj.profile(), base.first_cells);
+  out.coarse_layers = fewest_layer_count(obj.profile(), base.first_cells);
   out.reference_layers = given.layer_count();
   out.reference_rsmd = obj.rsmd(given);
   ComparisonRow own;

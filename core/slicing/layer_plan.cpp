@@ -17,6 +17,16 @@ LayerPlan uniform_plan(const ZProfile& profile, int n) {
   return plan;
 }
 
+int finest_layer_count(const ZProfile& p, int first_cells) {
+  if (first_cells <= 0 || first_cells >= p.cells()) return p.most_layers();
+  return 1 + (p.cells() - first_cells) / p.min_cells();
+}
+
+int fewest_layer_count(const ZProfile& p, int first_cells) {
+  if (first_cells <= 0 || first_cells >= p.cells()) return p.fewest_layers();
+  return 1 + (p.cells() - first_cells + p.max_cells() - 1) / p.max_cells();
+}
+
 LayerPlan fine_plan(const ZProfile& profile) {
   return uniform_plan(profile, profile.most_layers());
 }

@@ -25,6 +25,12 @@ LayerPlan uniform_plan(const ZProfile& profile, int n);
 LayerPlan fine_plan(const ZProfile& profile);    // uniform α: the most layers
 LayerPlan coarse_plan(const ZProfile& profile);  // uniform ᾱ: the fewest
 
+// The most and fewest layers a printer makes of `profile` with its first layer fixed at
+// `first_cells` (0: free, as the profile's own most_layers and fewest_layers): what "fine" and
+// "coarse" count wherever they are shown, so they agree with the fine and coarse planners' plans.
+int finest_layer_count(const ZProfile& profile, int first_cells);
+int fewest_layer_count(const ZProfile& profile, int first_cells);
+
 // Empty if `plan` is valid for `profile` (starts at 0, ends at M, every width within α..ᾱ),
 // else what is wrong with it.
 std::string check_plan(const ZProfile& profile, const LayerPlan& plan);

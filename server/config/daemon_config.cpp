@@ -154,6 +154,7 @@ DaemonConfig parse_daemon_config(std::string_view text, const std::string& sourc
   core::read_section(top, "jobs", source, [&](TableReader& r) {
     r.integer("workers", c.workers, 1, 64);
     r.integer("queue_limit", c.queue_limit, 1, 100000);
+    r.number("time_limit_minutes", c.job_time_limit_minutes, 0.01, 10080.0);
   });
   core::read_section(top, "store", source, [&](TableReader& r) {
     r.text("url", c.store_url);

@@ -85,6 +85,7 @@ struct DaemonConfig {
   std::string base_path;
   int workers = 1;
   int queue_limit = 32;
+  double job_time_limit_minutes = 30;  // [jobs] time_limit_minutes: a slice running longer fails
   // Where the web page's JavaScript libraries are read from (Debian's libjs-three and
   // libjs-chart.js install under it), served at /vendor/three/… and /vendor/chart.js/….
   std::string web_vendor_dir = "/usr/share/javascript";

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "core/common/input_error.hpp"
@@ -109,6 +110,20 @@ std::string sanitize_filename(const std::string& name) {
   return out.empty() ? "model" : out;
 }
 
+namespace {
+
+// What a job that ran out of time says: the limit, in a person's units, and where it is set.
+std::string time_limit_text(double seconds) {
+  const long minutes = std::lround(seconds / 60);
+  const std::string limit =
+      minutes >= 1 ? std::to_string(minutes) + " min" : std::to_string(std::lround(seconds)) + " s";
+  return "the slice took longer than the " + limit +
+         " a job may run ([jobs] time_limit_minutes in salientd's config): try a coarser 'grid', "
+         "saliency 'lee05' or 'uniform', or a smaller model";
+}
+
+}  // namespace
+
 JobServiceOptions job_service_options(const DaemonConfig& config) {
   JobServiceOptions o;
   o.workers = config.node.roles.slicer ? config.workers : 0;
@@ -117,6 +132,7 @@ JobServiceOptions job_service_options(const DaemonConfig& config) {
   o.node = config.node.id;
   o.lease_seconds = config.node.lease_seconds;
   o.max_attempts = config.node.max_attempts;
+  o.time_limit_seconds = config.job_time_limit_minutes * 60;
   return o;
 }
 
@@ -293,6 +309,8 @@ void JobService::work() {
 }
 
 void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
+  token->expire_after(std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(options_.time_limit_seconds)));
   changed(job.id);
   const fs::path work = store_.data_dir() / "work" / job.id;
   std::mutex progress_mutex;
@@ -310,6 +328,7 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
                        }};
   std::optional<std::string> error, result;
   JobState end = JobState::done;
+  std::optional<std::string> give_back;  // the database failed as the result was stored: why
   try {
     JobSettings settings = parse_job_settings(job.settings, options_.max_json_depth);
     const core::PrinterProfile printer = printer_for(settings.printer);
@@ -334,6 +353,11 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     result = json_text(figures);
   } catch (const core::Cancelled&) {
     end = JobState::cancelled;
+    if (token->expired()) end = JobState::failed, error = time_limit_text(options_.time_limit_seconds);
+  } catch (const StoreError& e) {
+    // The database (PostgreSQL restarting, a full disk) is no fault of the job: it is queued
+    // again, not failed for good.
+    give_back = std::string("the database failed as its result was stored: ") + e.what();
   } catch (const core::InputError& e) {
     end = JobState::failed, error = e.what();
   } catch (const DomainError& e) {
@@ -350,10 +374,27 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     running_.erase(job.id);
     shutting_down = stopping_;
     // cancel() said yes once the token was set, however late: the job ends cancelled, not done.
-    if (token->cancelled() && end == JobState::done) end = JobState::cancelled, result.reset();
+    // A deadline passed after the slice ended is no cancel: its result stands.
+    if (token->cancelled() && !token->expired() && end == JobState::done)
+      end = JobState::cancelled, result.reset();
   }
   if (end == JobState::cancelled && shutting_down) return;  // interrupted by a stop: re-queued next start
   if (lost) return;  // another node runs it now, or has re-queued it: its outcome is not ours
+  if (give_back && end != JobState::cancelled) {
+    for (int attempt = 0;; ++attempt) {
+      try {
+        JobStore(store_.db()).give_back(job, *give_back, options_.max_attempts, now_seconds());
+        break;
+      } catch (const StoreError&) {  // still away: tried for a minute, then left to the lease
+        std::unique_lock lock(mutex_);
+        if (stopping_ || attempt >= 60) return;
+        wake_.wait_for(lock, std::chrono::seconds(1));
+      }
+    }
+    changed(job.id);
+    wake_.notify_all();  // a worker may take it again at once
+    return;
+  }
   // A full disk may free up: the outcome is retried for a while; if it never lands, the job is
   // still "running" in the database and is re-queued at the next start.
   for (int attempt = 0;; ++attempt) {

@@ -34,11 +34,12 @@ struct JobServiceOptions {
   int workers = 1;
   int queue_limit = 32;
   std::size_t max_json_depth = 32;
-  int nice = 10;                   // workers' scheduling priority (Linux nice, per thread); 0 leaves it
-  std::size_t saliency_cache = 4;  // models whose saliency the workers keep in memory (0: none)
-  std::string node = "local";      // this node's id in the farm (DaemonConfig::node)
-  double lease_seconds = 15;       // a claim not renewed within this is taken as lost
-  int max_attempts = 3;            // claims a job may lose before it fails
+  int nice = 10;                     // workers' scheduling priority (Linux nice, per thread); 0 leaves it
+  std::size_t saliency_cache = 4;    // models whose saliency the workers keep in memory (0: none)
+  std::string node = "local";        // this node's id in the farm (DaemonConfig::node)
+  double lease_seconds = 15;         // a claim not renewed within this is taken as lost
+  int max_attempts = 3;              // claims a job may lose before it fails
+  double time_limit_seconds = 1800;  // a job still slicing after this fails, naming the limit
 };
 
 class JobService {

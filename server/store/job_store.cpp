@@ -194,6 +194,11 @@ std::vector<Job> JobStore::requeue_running(const std::string& node, int max_atte
   return out;
 }
 
+std::optional<Job> JobStore::give_back(const Job& job, const std::string& reason, int max_attempts,
+                                       double now) {
+  return requeue_one(job, reason, now, max_attempts, false);
+}
+
 // One job's claim ends without an outcome: queued again, or failed at the cap, or cancelled if a
 // cancel was asked. Compare-and-set on the claim (state, node, attempts, and the lease still
 // expired): of several nodes reaping the same job at once, one changes it and the others nothing.

@@ -70,6 +70,9 @@ class JobStore {
   // `node` restarts: its jobs that were running (and those of a daemon from before nodes, whose
   // node is empty) go back to the queue, or fail at max_attempts; returns the jobs changed.
   std::vector<Job> requeue_running(const std::string& node, int max_attempts, std::optional<double> now = {});
+  // Its holder gives a running job back without an outcome (the database failed as the result was
+  // stored): queued again with `reason`, or failed at max_attempts, as a reaped job.
+  std::optional<Job> give_back(const Job& job, const std::string& reason, int max_attempts, double now);
   // A finished, successful job for the same model bytes and settings, to reuse.
   std::optional<Job> find_done(const std::string& model_digest, const std::string& settings_digest);
   bool remove(const std::string& id);

@@ -18,8 +18,9 @@ using namespace salient::core;
 
 namespace {
 
+// The surface saliency is computed on (planning_setup.cpp): the file's, without repair's caps.
 Mesh load(const char* model) {
-  return load_mesh(std::filesystem::path(salient::test::model_path(model))).mesh;
+  return file_surface(load_mesh(std::filesystem::path(salient::test::model_path(model))));
 }
 
 double correlation(const std::vector<float>& a, const std::vector<float>& b, std::size_t n) {

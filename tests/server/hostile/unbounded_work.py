@@ -3,8 +3,11 @@
 # their ranges that took the daemon to gigabytes, a model 1e-20 mm across that crashed it at every
 # start, and 20,000 loose triangles that kept saliency busy for ten minutes. Each must be refused
 # (422 naming the setting) or fail as a job within seconds, the daemon alive and its memory flat.
+# A job longer than the daemon's time limit ([jobs] time_limit_minutes, 3 s here) fails naming it,
+# and a running job that is cancelled ends within a second (it took 393 s).
 #
-#   unbounded_work.py SALIENTD WORKDIR
+#   unbounded_work.py SALIENTD WORKDIR [SLOWDOWN]   (SLOWDOWN: how much slower this build runs, e.g. 5
+#                                                   under the sanitizers; the times allowed scale by it)
 #
 # Standard library only, loopback only; starts its own daemon and kills only that.
 import http.client
@@ -19,7 +22,8 @@ import subprocess
 import sys
 import time
 
-DEADLINE = time.monotonic() + 50  # CTest's TIMEOUT is 60
+SLOWDOWN = float(sys.argv[3]) if len(sys.argv) > 3 else 1.0
+DEADLINE = time.monotonic() + 100  # CTest's TIMEOUT is 120
 TETRA = "v 0 0 0\nv {s} 0 0\nv 0 {s} 0\nv 0 0 {s}\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n"
 failures = []
 
@@ -28,6 +32,35 @@ def check(ok, what):
     print(("PASS " if ok else "FAIL ") + what, flush=True)
     if not ok:
         failures.append(what)
+
+
+TIME_LIMIT = 3.0  # s: [jobs] time_limit_minutes = 0.05
+
+
+def sphere_obj(rings=160, segments=320, radius=50):
+    """A closed UV sphere of about 100,000 triangles: a slice of many seconds at a fine grid."""
+    import math
+    lines = [f"v 0 0 {-radius}"]
+    for r in range(1, rings):
+        phi = math.pi * r / rings
+        for k in range(segments):
+            theta = 2 * math.pi * k / segments
+            lines.append(f"v {radius * math.sin(phi) * math.cos(theta):.4f} "
+                         f"{radius * math.sin(phi) * math.sin(theta):.4f} {-radius * math.cos(phi):.4f}")
+    lines.append(f"v 0 0 {radius}")
+    top = 2 + (rings - 1) * segments  # 1-based id of the top pole
+
+    def ring(r, k):
+        return 2 + (r - 1) * segments + k % segments
+
+    for k in range(segments):
+        lines.append(f"f 1 {ring(1, k + 1)} {ring(1, k)}")
+        lines.append(f"f {top} {ring(rings - 1, k)} {ring(rings - 1, k + 1)}")
+        for r in range(1, rings - 1):
+            a, b, c, d = ring(r, k), ring(r, k + 1), ring(r + 1, k + 1), ring(r + 1, k)
+            lines.append(f"f {a} {b} {c}")
+            lines.append(f"f {a} {c} {d}")
+    return ("\n".join(lines) + "\n").encode()
 
 
 def loose_triangles(count, seed=17):
@@ -48,7 +81,7 @@ class Daemon:
         self.data = os.path.join(work, "data")
         config = os.path.join(work, "salientd.toml")
         with open(config, "w") as f:
-            f.write("printers = []\n")
+            f.write(f"printers = []\n[jobs]\ntime_limit_minutes = {TIME_LIMIT / 60}\n")
         self.log = os.path.join(work, "daemon.log")
         with open(self.log, "wb") as log:
             self.proc = subprocess.Popen([salientd, "--data", self.data, "--listen", "127.0.0.1:0", "--config", config],
@@ -101,6 +134,15 @@ class Daemon:
                 self.proc.wait()
 
 
+def wait_job(d, body, states):
+    """The job once its state is one of `states` (polled every 20 ms), or as it is at the deadline."""
+    job = body or {}
+    while job.get("id") and time.monotonic() < DEADLINE - 5 and job.get("state") not in states:
+        time.sleep(0.02)
+        _, job = d.request("GET", "/api/v1/jobs/" + body["id"])
+    return job
+
+
 def main(argv):
     salientd, work = argv[1], argv[2]
     shutil.rmtree(work, ignore_errors=True)
@@ -113,7 +155,7 @@ def main(argv):
             started = time.monotonic()
             status, body = d.submit("tetra.obj", cube, settings)
             message = (body or {}).get("error", {}).get("message", "")
-            check(status == 422 and f"'{key}'" in message and time.monotonic() - started < 2,
+            check(status == 422 and f"'{key}'" in message and time.monotonic() - started < 2 * SLOWDOWN,
                   f"settings {settings}: 422 naming '{key}' at once (got {status}: {message!r})")
         status, body = d.submit("tiny.obj", TETRA.format(s="1e-20").encode(), "{}")
         message = (body or {}).get("error", {}).get("message", "")
@@ -131,6 +173,27 @@ def main(argv):
             error = str(job.get("error"))
             check(job.get("state") == "failed" and "saliency" in error and "lee05" in error,
                   f"20,000 loose triangles fail in seconds naming 'saliency' (state {job.get('state')}: {error!r})")
+        # Past the time limit: failed naming it, within a second and a half of it (a loaded machine).
+        sphere = sphere_obj()
+        slow = '{"height": 150, "grid": 0.02}'
+        status, body = d.submit("sphere.obj", sphere, slow)
+        started = time.monotonic()
+        job = wait_job(d, body, ("done", "failed", "cancelled"))
+        took = time.monotonic() - started
+        error = str(job.get("error"))
+        check(job.get("state") == "failed" and "time_limit_minutes" in error and took < TIME_LIMIT + 1.5 * SLOWDOWN,
+              f"a job past the {TIME_LIMIT:.0f} s limit fails naming it, {took:.1f} s after it was submitted "
+              f"(state {job.get('state')}: {error!r})")
+        # Cancelled while it runs: ended within a second.
+        status, body = d.submit("sphere.obj", sphere, slow)
+        job = wait_job(d, body, ("running", "done", "failed", "cancelled"))
+        time.sleep(0.8)
+        asked = time.monotonic()
+        d.request("DELETE", "/api/v1/jobs/" + body["id"])
+        job = wait_job(d, body, ("done", "failed", "cancelled"))
+        took = time.monotonic() - asked
+        check(job.get("state") == "cancelled" and took <= 1.0 * SLOWDOWN,
+              f"a running job cancelled ends within a second (state {job.get('state')} after {took:.2f} s)")
         check(d.proc.poll() is None, "the daemon is alive")
         rss = d.rss_mb() if d.proc.poll() is None else 0
         check(rss < 1024, f"the daemon's memory stayed bounded ({rss:.0f} MB)")
