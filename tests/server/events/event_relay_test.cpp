@@ -240,7 +240,8 @@ TEST_CASE("connections killed by pg_terminate_backend: listeners reconnect and r
   REQUIRE(on_b.wait([](const auto& v) { return count_type(v, "resync") == 1; }));
   CHECK(b.relay.stats().reconnects >= 1);
   // The sender finds its connection dead and sends again on a new one; the job event's connection
-  // is dead too: it goes through the sender.
+  // was dead too, and is opened again before its statement (postgres_backend.cpp, revive). The two
+  // go by two connections, so only each topic's own order holds between them.
   a.hub.publish({"printers", "printer/p"}, "printer", R"({"n":3})");
   a.hub.publish({"jobs", "job/j"}, "job", R"({"n":4})");
   REQUIRE(on_b.wait([](const auto& v) { return v.size() == 5; }));
@@ -248,8 +249,8 @@ TEST_CASE("connections killed by pg_terminate_backend: listeners reconnect and r
   CHECK(got[0]["data"]["n"] == 1);
   CHECK(got[1]["data"]["n"] == 2);
   CHECK(got[2]["type"] == "resync");
-  CHECK(got[3]["data"]["n"] == 3);
-  CHECK(got[4]["data"]["n"] == 4);
+  CHECK(got[3]["data"]["n"].get<int>() + got[4]["data"]["n"].get<int>() == 7);  // 3 and 4, each once
+  CHECK(got[3]["data"]["n"] != got[4]["data"]["n"]);
 }
 
 TEST_CASE("a notification that is not an event (anyone may NOTIFY the channel) is skipped") {
