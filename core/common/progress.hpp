@@ -20,6 +20,8 @@ class CancelToken {
     deadline_.store((std::chrono::steady_clock::now() + limit).time_since_epoch().count(),
                     std::memory_order_relaxed);
   }
+  // cancel() was called (a person's cancel, a lost claim), whatever the deadline.
+  bool cancel_called() const { return cancelled_.load(std::memory_order_relaxed); }
   // Past the deadline (whether or not cancel() was also called).
   bool expired() const {
     const auto d = deadline_.load(std::memory_order_relaxed);

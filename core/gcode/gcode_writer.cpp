@@ -227,15 +227,19 @@ GcodeResult write_gcode(const std::vector<LayerToolpaths>& layers, const Printer
   LayerWriter writer(printer, settings, relative_e);
   std::vector<std::string> bodies;
   bodies.reserve(layers.size());
-  for (std::size_t i = 0; i < layers.size(); ++i) bodies.push_back(writer.write(layers[i], i));
+  const RunContext run{settings.cancel, {}};
+  for (std::size_t i = 0; i < layers.size(); ++i) {
+    if (i % 32 == 0) run.check();
+    bodies.push_back(writer.write(layers[i], i));
+  }
   std::string body;
   for (const std::string& b : bodies) body += b;
   MachineLimits limits;
   limits.acceleration = limits.travel_acceleration = limits.retract_acceleration = printer.acceleration;
   limits.jerk[0] = limits.jerk[1] = printer.jerk;
   std::vector<CommandTiming> commands;
-  const GcodeEstimate estimate =
-      estimate_gcode((relative_e ? "M83\n" : "M82\n") + body, "generated", limits, &commands);
+  const GcodeEstimate estimate = estimate_gcode((relative_e ? "M83\n" : "M82\n") + body, "generated", limits,
+                                                &commands, settings.cancel);
 
   GcodeResult result;
   result.seconds = estimate.seconds;

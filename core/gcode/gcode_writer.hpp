@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/progress.hpp"
 #include "core/gcode/gcode_thumbnail.hpp"
 #include "core/gcode/stream_demand.hpp"
 #include "core/printer/printer_profile.hpp"
@@ -22,6 +23,7 @@ struct GcodeSettings {
   int fan_from_layer = 1;                  // 0-based index of the first layer with the part fan on
   std::vector<std::string> summary;        // lines for the header (the plan: planner, layers, saving…)
   std::vector<GcodeThumbnail> thumbnails;  // written into the header, in this order
+  const CancelToken* cancel = nullptr;     // a job's: checked every few layers and while estimating
 };
 
 struct GcodeResult {

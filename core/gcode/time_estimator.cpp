@@ -147,7 +147,7 @@ void extend_printing_area(GcodeEstimate& out, const double* from, const double* 
 }  // namespace
 
 GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, MachineLimits limits,
-                             std::vector<CommandTiming>* commands) {
+                             std::vector<CommandTiming>* commands, const CancelToken* cancel) {
   GcodeEstimate out;
   Planner planner(limits, out, commands);
   TextCursor cur(text, source);
@@ -160,6 +160,7 @@ GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, M
   std::string_view line;
   while (cur.next_line(line)) {
     ++out.lines;
+    if (cancel && out.lines % 4096 == 0 && cancel->cancelled()) throw Cancelled();
     GcodeError error;
     const GcodeLine g = parse_gcode_line(line, error);
     if (error != GcodeError::none)

@@ -8,6 +8,8 @@
 #include <string_view>
 #include <vector>
 
+#include "core/common/progress.hpp"
+
 namespace salient::core {
 
 struct MachineLimits {
@@ -44,8 +46,10 @@ struct CommandTiming {
 // Throws InputError "SOURCE:LINE: …" for a malformed word (such as "X1.2.3"). Unknown commands
 // are skipped, as firmware does. Limits set in the file (M201/M203/M204/M205) override `limits`.
 // Arcs (G2/G3 with I J) take their length along the arc and meet their neighbours along their
-// tangents. With `commands`, each command's timing is appended to it, in file order.
+// tangents. With `commands`, each command's timing is appended to it, in file order. A `cancel`
+// set stops it (Cancelled) within a few thousand lines: a long print's file takes seconds.
 GcodeEstimate estimate_gcode(std::string_view text, const std::string& source, MachineLimits limits = {},
-                             std::vector<CommandTiming>* commands = nullptr);
+                             std::vector<CommandTiming>* commands = nullptr,
+                             const CancelToken* cancel = nullptr);
 
 }  // namespace salient::core

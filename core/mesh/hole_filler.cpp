@@ -43,8 +43,11 @@ std::multimap<std::uint32_t, std::uint32_t> cap_edges(const Mesh& mesh) {
   return out;
 }
 
-// Ear clipping of `loop` (vertex ids in cap order); false when it folds over itself in plan.
-bool clip_ears(const Mesh& mesh, const std::vector<std::uint32_t>& loop, std::vector<Triangle>& out) {
+// Ear clipping of `loop` (vertex ids in cap order); false when it folds over itself in plan, or
+// when the point-in-ear tests would pass `budget` (a hostile loop of many reflex vertices is cubic
+// work): the hole is then left open, refused later if it matters.
+bool clip_ears(const Mesh& mesh, const std::vector<std::uint32_t>& loop, std::vector<Triangle>& out,
+               std::size_t& budget) {
   Vec3 normal, centre;
   for (std::size_t i = 0; i < loop.size(); ++i) {
     const Vec3& a = mesh.positions[loop[i]];
@@ -74,6 +77,8 @@ bool clip_ears(const Mesh& mesh, const std::vector<std::uint32_t>& loop, std::ve
     for (std::size_t k = 0; k < n && !clipped; ++k) {
       const std::size_t a = left[(k + n - 1) % n], b = left[k], c = left[(k + 1) % n];
       if (cross2(p[a], p[b], p[c]) <= 0) continue;  // reflex or flat: no ear
+      if (budget < n) return false;
+      budget -= n;
       bool empty = true;
       for (std::size_t j : left)
         if (j != a && j != b && j != c && inside_triangle(p[j], p[a], p[b], p[c])) {
@@ -102,6 +107,16 @@ HoleFilling fill_holes(Mesh& mesh, std::size_t max_edges) {
   std::unordered_map<std::uint32_t, std::size_t> leaving;
   for (const auto& [from, to] : edges) ++leaving[from];
   std::vector<Triangle> caps;
+  std::size_t budget = std::size_t{1} << 26;  // point-in-ear tests for the whole mesh: well under a second
+  // A lone triangle (or a face of a sheet whose three edges are all open) is its own hole: its
+  // cap would be the face reversed, a solid of no volume. Such loops are left.
+  std::unordered_map<std::uint64_t, int> faces;
+  const auto face_key = [](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    std::uint32_t v[3] = {a, b, c};
+    std::sort(v, v + 3);
+    return (std::uint64_t{v[0]} << 42) ^ (std::uint64_t{v[1]} << 21) ^ v[2];  // a clash only leaves a hole
+  };
+  for (const Triangle& t : mesh.triangles) ++faces[face_key(t[0], t[1], t[2])];
   while (!edges.empty()) {
     const std::uint32_t start = edges.begin()->first;
     std::vector<std::uint32_t> loop;
@@ -119,7 +134,9 @@ HoleFilling fill_holes(Mesh& mesh, std::size_t max_edges) {
       edges.erase(it);
       if (at == start) break;
     }
-    if (!simple || loop.size() < 3 || loop.size() > max_edges || !clip_ears(mesh, loop, caps)) {
+    const bool lone_face = loop.size() == 3 && faces.count(face_key(loop[0], loop[1], loop[2])) > 0;
+    if (!simple || loop.size() < 3 || loop.size() > max_edges || lone_face ||
+        !clip_ears(mesh, loop, caps, budget)) {
       ++report.holes_left;
       continue;
     }

@@ -52,7 +52,9 @@ std::vector<LayerToolpaths> region_toolpaths(const Mesh& mesh, const ZProfile& w
 double region_print_seconds(const Mesh& mesh, const ZProfile& whole, const std::vector<PlanRegion>& regions,
                             const RegionSliceSettings& s, const PrinterProfile& printer,
                             const RunContext& run) {
-  return write_gcode(region_toolpaths(mesh, whole, regions, s, run), printer, {}).seconds;
+  GcodeSettings gs;
+  gs.cancel = run.cancel;
+  return write_gcode(region_toolpaths(mesh, whole, regions, s, run), printer, gs).seconds;
 }
 
 RegionTimer region_timer(const PlanningSetup& setup, const RegionSliceSettings& settings,

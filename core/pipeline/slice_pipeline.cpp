@@ -269,6 +269,7 @@ SliceResult slice_model(SliceSettings s, const PrinterProfile& printer, const Ru
   out.layers = static_cast<int>(out.z.size());
   out.finest_layers = finest_layer_count(p, setup->first_cells);
   GcodeSettings gs;
+  gs.cancel = run.cancel;
   gs.summary = {"model = " + out.model_name,
                 "planner = " + std::string(to_string(plan.planner)) + ", metric " +
                     std::string(to_string(plan.metric)) + ", " + saliency_text(plan),

@@ -353,7 +353,9 @@ void JobService::run(Job job, const std::shared_ptr<core::CancelToken>& token) {
     result = json_text(figures);
   } catch (const core::Cancelled&) {
     end = JobState::cancelled;
-    if (token->expired()) end = JobState::failed, error = time_limit_text(options_.time_limit_seconds);
+    // Out of time, unless a person's cancel came first: that one is what they asked for.
+    if (token->expired() && !token->cancel_called())
+      end = JobState::failed, error = time_limit_text(options_.time_limit_seconds);
   } catch (const StoreError& e) {
     // The database (PostgreSQL restarting, a full disk) is no fault of the job: it is queued
     // again, not failed for good.

@@ -102,6 +102,21 @@ TEST_CASE("a closed mesh gets nothing, and two holes through one vertex are left
   CHECK(pinched.triangle_count() == 10);
 }
 
+TEST_CASE("loose triangles are no holes: each would be capped by itself reversed") {
+  Mesh m;
+  for (int i = 0; i < 50; ++i) {
+    const auto base = static_cast<std::uint32_t>(m.positions.size());
+    m.positions.push_back({3.0 * i, 0, 0});
+    m.positions.push_back({3.0 * i + 1, 0, 0});
+    m.positions.push_back({3.0 * i, 1, 0.5});
+    m.triangles.push_back({base, base + 1, base + 2});
+  }
+  const HoleFilling f = fill_holes(m);
+  CHECK(f.holes_filled == 0);
+  CHECK(f.holes_left == 50);
+  CHECK(m.triangle_count() == 50);
+}
+
 TEST_CASE("the file's surface is the mesh without its caps, and per-vertex colours still fit") {
   Mesh m = box();
   m.triangles.resize(10);
