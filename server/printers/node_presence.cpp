@@ -2,6 +2,7 @@
 
 #include <optional>
 
+#include "server/printers/liveness_witness.hpp"
 #include "server/store/farm_store.hpp"
 
 namespace salient::server {
@@ -72,6 +73,12 @@ void NodePresence::run() {
   const auto beat_every =
       std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(options_.lease_seconds / 3));
   auto next_beat = clock::now() + beat_every, next_tick = clock::now() + std::chrono::seconds(1);
+  const auto steady_seconds = [] {
+    return std::chrono::duration<double>(clock::now().time_since_epoch()).count();
+  };
+  // A gap of more than a beat between rounds breaks this node's own contact with the database.
+  LivenessWitness witness(options_.lease_seconds, options_.lease_seconds / 3);
+  witness.start(steady_seconds());
   std::unique_lock lock(mutex_);
   while (!stopping_) {
     wake_.wait_for(lock, kStatusInterval, [this] { return stopping_; });
@@ -88,12 +95,15 @@ void NodePresence::run() {
         heartbeat(now());
         next_beat = clock::now() + beat_every;
       }
+      witness.reached(steady_seconds());
       if (clock::now() >= next_tick) {
-        FarmStore(store_.db()).interrupt_dead(options_.node, now() - options_.lease_seconds, now());
+        if (witness.may_judge(steady_seconds()))
+          FarmStore(store_.db()).interrupt_dead(options_.node, now() - options_.lease_seconds, now());
         if (tick_) tick_();
         next_tick = clock::now() + std::chrono::seconds(1);
       }
     } catch (const std::exception&) {
+      witness.failed();
     }
     lock.lock();
   }
