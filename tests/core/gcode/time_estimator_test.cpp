@@ -137,3 +137,18 @@ TEST_CASE("the printing area is the box of the extruding moves, as OctoPrint's a
   CHECK(e.printing_max[2] == doctest::Approx(0.5));
   CHECK_FALSE(estimate_gcode("G28\nG0 X10 Y10\nG1 E5\n", "t").printed);  // priming in place prints no area
 }
+
+// A job's cancel reaches the estimator within a few thousand lines (issue 32 item 17): the
+// plan phase times two plans on their G-code, which held a cancel for 2 s on a large model.
+TEST_CASE("a cancelled or expired token stops the estimator with Cancelled") {
+  std::string text;
+  for (int i = 0; i < 20000; ++i) text += "G1 X" + std::to_string(i % 100) + " Y1 F3000\n";
+  CancelToken token;
+  CHECK_NOTHROW(estimate_gcode(text, "long.gcode", {}, nullptr, &token));
+  token.cancel();
+  CHECK_THROWS_AS(estimate_gcode(text, "long.gcode", {}, nullptr, &token), Cancelled);
+  CancelToken expired;
+  expired.expire_after(std::chrono::seconds(-1));  // a job's time limit, passed
+  CHECK(expired.expired());
+  CHECK_THROWS_AS(estimate_gcode(text, "long.gcode", {}, nullptr, &expired), Cancelled);
+}

@@ -414,3 +414,14 @@ TEST_CASE("the stream: a written file's busiest second fits a 115,200-baud link,
   printer.baud = 1200;  // 120 bytes a second: a few lines
   CHECK(write_gcode(layers, printer, {}).stream.starves());
 }
+
+TEST_CASE("a cancelled token stops the G-code writer with Cancelled (a job's cancel, issue 32 item 17)") {
+  const PrinterProfile printer = *builtin_printer("generic-i3");
+  const auto layers = generate_toolpaths(box_on_bed(printer, 20, 20, 6), variable_plan(), {});
+  CancelToken token;
+  GcodeSettings gs;
+  gs.cancel = &token;
+  CHECK_NOTHROW(write_gcode(layers, printer, gs));
+  token.cancel();
+  CHECK_THROWS_AS(write_gcode(layers, printer, gs), Cancelled);
+}
