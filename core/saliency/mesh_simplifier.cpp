@@ -13,6 +13,7 @@
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/remesh.h>
 #include <CGAL/Surface_mesh.h>
+#include <CGAL/Surface_mesh_simplification/Edge_collapse_visitor_base.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/Count_stop_predicate.h>
 #include <CGAL/Surface_mesh_simplification/Policies/Edge_collapse/GarlandHeckbert_plane_policies.h>
 #include <CGAL/Surface_mesh_simplification/edge_collapse.h>
@@ -92,15 +93,32 @@ SurfaceMesh surface_of(const Mesh& mesh) {
   return sm;
 }
 
-void collapse(SurfaceMesh& sm, std::size_t target_vertices) {
+// Checks the caller's cancel token every 1024 edges costed and collapses: a 100,000-triangle model
+// takes seconds here (more under load), one uninterruptible CGAL call otherwise. Throwing out of
+// edge_collapse is safe: its queue and edge data are scoped, and the half-collapsed mesh is dropped.
+struct CancelVisitor : SMS::Edge_collapse_visitor_base<SurfaceMesh> {
+  const RunContext* run = nullptr;
+  std::size_t steps = 0;
+  void tick() {
+    if (++steps % 1024 == 0) run->check();
+  }
+  void OnCollected(const Profile&, const boost::optional<FT>&) { tick(); }
+  void OnCollapsed(const Profile&, const vertex_descriptor&) { tick(); }
+};
+
+void collapse(SurfaceMesh& sm, std::size_t target_vertices, const RunContext& run) {
   // Each collapse removes one vertex and three edges; stop at the edge count of the target.
   const std::size_t remove =
       sm.number_of_vertices() > target_vertices ? sm.number_of_vertices() - target_vertices : 0;
   const std::size_t target_edges = sm.number_of_edges() > 3 * remove ? sm.number_of_edges() - 3 * remove : 3;
   SMS::Count_stop_predicate<SurfaceMesh> stop(target_edges);
   SMS::GarlandHeckbert_plane_policies<SurfaceMesh, Kernel> policies(sm);
+  CancelVisitor visitor;
+  visitor.run = &run;
   SMS::edge_collapse(sm, stop,
-                     CGAL::parameters::get_cost(policies.get_cost()).get_placement(policies.get_placement()));
+                     CGAL::parameters::get_cost(policies.get_cost())
+                         .get_placement(policies.get_placement())
+                         .visitor(visitor));
   sm.collect_garbage();
 }
 
@@ -126,7 +144,7 @@ Mesh mesh_of(const SurfaceMesh& sm) {
 
 }  // namespace
 
-Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices) {
+Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices, const RunContext& run) {
   if (mesh.vertex_count() <= target_vertices) {
     Mesh copy;
     copy.positions = mesh.positions;
@@ -134,14 +152,16 @@ Mesh simplify_mesh(const Mesh& mesh, std::size_t target_vertices) {
     return copy;
   }
   SurfaceMesh sm = surface_of(mesh);
-  collapse(sm, target_vertices);
+  collapse(sm, target_vertices, run);
   return mesh_of(sm);
 }
 
-Mesh working_mesh(const Mesh& mesh, std::size_t target_vertices) {
-  if (mesh.triangle_count() < 4) return simplify_mesh(mesh, target_vertices);
+Mesh working_mesh(const Mesh& mesh, std::size_t target_vertices, const RunContext& run) {
+  if (mesh.triangle_count() < 4) return simplify_mesh(mesh, target_vertices, run);
   SurfaceMesh sm = surface_of(mesh);
-  if (sm.number_of_vertices() > target_vertices) collapse(sm, target_vertices);
+  run.check();
+  if (sm.number_of_vertices() > target_vertices) collapse(sm, target_vertices, run);
+  run.check();
   // Quadric collapse keeps thin slivers where they fit the surface best; 1/d² weights would turn
   // them into hot spots. Isotropic remeshing at the mean edge length (split above 4/3 of it,
   // collapse below 4/5, flips towards valence 6, tangential relaxation) keeps about the vertex

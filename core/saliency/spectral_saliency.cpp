@@ -247,7 +247,7 @@ std::vector<float> spectral_saliency(const Mesh& input, const SpectralOptions& o
   run.report("saliency", 0.0);
   run.check();
   const Mesh mesh = canonical_copy(input);
-  const Mesh work = working_mesh(mesh, options.working_vertices);
+  const Mesh work = working_mesh(mesh, options.working_vertices, run);
   run.check();
   // Each decomposition holds a few n×n matrices and takes n³ steps: a mesh the collapse cannot
   // reduce (thousands of loose triangles, none sharing an edge) would ask for gigabytes and hours.
