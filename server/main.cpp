@@ -160,7 +160,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   const ApiKey key = ensure_api_key(store);
   if (key.created)
     log_line("api key (shown once; also in " + (store.data_dir() / "api-key").string() + "): " + key.key);
-  Sessions sessions;  // before the keys, whose refresher closes sessions until it stops
+  Sessions sessions(store);  // before the keys, whose refresher closes sessions until it stops
   ApiKeys keys(store);
   EventHub hub;
   std::unique_ptr<EventRelay> relay;  // PostgreSQL only: set once the printers exist
@@ -244,7 +244,7 @@ int serve(const std::string& config_path, const std::string& data, const std::st
   add_printer_routes(router, printers, store, config, farm ? &printer_farm : nullptr);
   add_node_routes(router, store, printers, config);
   add_octoprint_routes(router, store, printers, config, octo, sessions, hub);
-  AppKeyRequests app_key_requests;
+  AppKeyRequests app_key_requests(store);
   add_auth_routes(router, keys, sessions, app_key_requests);
   add_metrics_route(router, metrics, store, printers, hub, jobs.saliency_cache(), config.node, relay.get());
   add_event_route(router);

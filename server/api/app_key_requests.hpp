@@ -6,7 +6,11 @@
 // an IPv6 /64) 8, all together 64; so a few addresses cannot take every slot and leave the next
 // app 429. A request lives 10 minutes (OctoPrint's cutoff) and goes after 20 s without a poll
 // (apps poll every second or so).
-// Time is passed in (steady seconds), so that tests need not wait.
+// OctoPrint keeps requests in memory; here they are in the database (table app_key_requests), so
+// that in a farm an app asks through one node, an admin decides on another and the app's poll,
+// through either, gets the key, once. The rate of asking is counted per node (in memory); what
+// waits is bounded across the farm.
+// Time is passed in (Unix seconds: the nodes share it), so that tests need not wait.
 #pragma once
 
 #include <cstddef>
@@ -20,10 +24,13 @@
 
 namespace salient::server {
 
+class Store;
+
 struct AppKeyRequest {
   std::string app, user;  // user: whom the app asked a key for ("" for anyone)
   std::string remote;     // the asking address
-  std::string app_token, user_token;
+  std::string app_token;  // only from open(): the database keeps its digest
+  std::string user_token;
   double created = 0, polled = 0;
   // Once decided: approved, for whom and with which role (a new user's).
   bool decided = false;
@@ -39,7 +46,10 @@ class AppKeyRequests {
   static constexpr double kPollTimeout = 20;  // seconds without a poll before a request goes
   static constexpr std::size_t kPerMinute = 3, kPerHour = 10;
 
-  // The new request's app token and user token; TooBusy when full, when `remote` (or its network)
+  // Each call throws StoreError when the database cannot be reached.
+  explicit AppKeyRequests(Store& store) : store_(store) {}
+
+  // The new request with its app token and user token; TooBusy when full, when `remote` (or its network)
   // has its share waiting, or when it asks too often.
   AppKeyRequest open(const std::string& app, const std::string& user, const std::string& remote, double now);
 
@@ -57,9 +67,8 @@ class AppKeyRequests {
   std::vector<AppKeyRequest> pending(double now);
 
  private:
-  void expire(double now);
-  std::mutex mutex_;
-  std::deque<AppKeyRequest> requests_;
+  Store& store_;
+  std::mutex mutex_;                                  // guards asked_
   std::deque<std::pair<std::string, double>> asked_;  // (address, when), the last hour, bounded
 };
 

@@ -61,8 +61,9 @@ std::optional<Role> role_field(const json& body) {
   return role;
 }
 
-double steady_now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+// Unix seconds: app-key requests are shared by a farm's nodes, whose steady clocks differ.
+double unix_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
 
 // OctoPrint's decision: true, or one of its "valid boolean trues" as text or number.
@@ -87,7 +88,7 @@ HttpResponse decide(ApiKeys& keys, AppKeyRequests& requests, const HttpRequest& 
   const json body = parse_json_body(r, kMaxBody, kMaxDepth);
   const std::optional<bool> approve = decision_of(body);
   if (!approve) throw ApiError(400, "bad_request", "no decision provided: {\"decision\": true|false}");
-  const auto pending = requests.pending(token, steady_now());
+  const auto pending = requests.pending(token, unix_now());
   if (!pending) throw ApiError(404, "not_found", "no pending key request with that token");
   std::string user = string_field(body, "user", pending->user.empty() ? "apps" : pending->user);
   if (!valid_user_name(user))
@@ -101,7 +102,7 @@ HttpResponse decide(ApiKeys& keys, AppKeyRequests& requests, const HttpRequest& 
   } else if (!role) {
     role = Role::operator_;
   }
-  if (!requests.decide(token, *approve, user, role, steady_now()))
+  if (!requests.decide(token, *approve, user, role, unix_now()))
     throw ApiError(404, "not_found", "no pending key request with that token");
   if (octoprint) return HttpResponse::text(204, "");
   return json_response(200, {{"decision", *approve}, {"app", pending->app}, {"user", user}});
@@ -178,7 +179,7 @@ void add_key_routes(Router& router, ApiKeys& keys, Sessions& sessions) {
 void add_request_routes(Router& router, ApiKeys& keys, AppKeyRequests& requests) {
   router.add("GET", "/api/v1/keys/requests", Access::admin,
              [&requests](const HttpRequest&, const PathParams&) {
-               const double now = steady_now();
+               const double now = unix_now();
                json list = json::array();
                for (const AppKeyRequest& q : requests.pending(now))
                  list.push_back({{"token", q.user_token},
@@ -214,7 +215,7 @@ void add_app_routes(Router& router, ApiKeys& keys, AppKeyRequests& requests) {
             body.contains("user") && body["user"].is_null() ? "" : string_field(body, "user", "");
         if (!user.empty() && !valid_user_name(user))
           throw ApiError(400, "bad_user", "not a user name: '" + user.substr(0, 64) + "'");
-        const AppKeyRequest made = requests.open(app, user, r.remote, steady_now());
+        const AppKeyRequest made = requests.open(app, user, r.remote, unix_now());
         const std::string poll = "/plugin/appkeys/request/" + made.app_token;
         std::string host = r.header("host");
         const bool plain_host =
@@ -230,7 +231,7 @@ void add_app_routes(Router& router, ApiKeys& keys, AppKeyRequests& requests) {
       });
   router.add("GET", "/plugin/appkeys/request/{token}", Access::open,
              [&keys, &requests](const HttpRequest&, const PathParams& p) {
-               const auto polled = requests.poll(p.at("token"), steady_now());
+               const auto polled = requests.poll(p.at("token"), unix_now());
                if (polled.state == AppKeyRequests::Poll::pending)
                  return json_response(202, {{"message", "Awaiting decision"}});
                if (polled.state == AppKeyRequests::Poll::unknown)

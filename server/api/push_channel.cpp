@@ -88,7 +88,11 @@ void PushChannel::receive(const std::string& text) {
 }
 
 void PushChannel::authenticate(const std::string& auth) {
-  user_ = auth.empty() ? std::nullopt : feed_.user_of_auth(auth);
+  try {
+    user_ = auth.empty() ? std::nullopt : feed_.user_of_auth(auth);
+  } catch (const std::runtime_error&) {
+    user_.reset();  // not known now: the client is asked to log in again, and retries
+  }
   auth_ = user_ ? auth : std::string();
   if (!user_) {
     latest_.reset();
@@ -161,16 +165,21 @@ bool PushChannel::due() const {
   return !closed_ && (due_locked(clock_()) || !overflow_.empty());
 }
 
-void PushChannel::recheck_session() {
+bool PushChannel::recheck_session() {
   {
     std::lock_guard lock(mutex_);
-    if (!user_ || closed_ || feed_.user_of_auth(auth_)) return;
+    try {
+      if (!user_ || closed_ || feed_.user_of_auth(auth_)) return true;
+    } catch (const std::runtime_error&) {
+      return false;
+    }
     user_.reset();
     auth_.clear();
     latest_.reset();
     enqueue({R"({"reauthRequired":{"reason":"removed"}})", nullptr});
   }
   wake();
+  return true;
 }
 
 bool PushChannel::authenticated() const {

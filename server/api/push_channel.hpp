@@ -50,7 +50,8 @@ struct PushSubscription {
 class PushFeed {
  public:
   virtual ~PushFeed() = default;
-  // The user a "name:session" belongs to (none: a wrong or stale session).
+  // The user a "name:session" belongs to (none: a wrong or stale session). Throws
+  // std::runtime_error when it cannot tell (the database away).
   virtual std::optional<std::string> user_of_auth(std::string_view auth) const = 0;
   // The `history` payload (a JSON object's text), and the cursor moved past what it holds.
   virtual std::string history(PushCursor& cursor, const PushSubscription& subscription) const = 0;
@@ -86,7 +87,8 @@ class PushChannel : public WebSocketChannel {
 
   // The session it authenticated with is gone (logged out, its user's keys revoked): it is told
   // {"reauthRequired": {"reason": "removed"}} and gets nothing more until it authenticates again.
-  void recheck_session();
+  // False: the feed could not tell (the session is kept; ask again later).
+  bool recheck_session();
   bool authenticated() const;
   bool wants_logs() const;  // authenticated, subscribed to the terminal's lines
   int throttle() const;

@@ -210,15 +210,20 @@ void PushHub::turn(bool state, bool progress, const std::vector<std::string>& fi
       c->event("UpdatedFiles", R"({"type":"printables"})");
     }
   }
-  // Once a second: sessions that ended (a logout, a revoked key) lose their clients' updates.
-  const bool recheck = std::chrono::steady_clock::now() - last_recheck_ >= std::chrono::seconds(1);
+  // Sessions that ended (a revoked key, here or on another node) lose their clients' updates: looked
+  // at once a second at most, and only after this node closed some, so that the hub's thread asks
+  // the database nothing while none did.
+  const std::uint64_t closes = sessions_.closes();
+  const bool recheck = closes != rechecked_closes_ &&
+                       std::chrono::steady_clock::now() - last_recheck_ >= std::chrono::seconds(1);
   if (recheck) last_recheck_ = std::chrono::steady_clock::now();
-  bool logs = false;
+  bool logs = false, checked = true;
   for (const auto& c : channels) {
-    if (recheck) c->recheck_session();
+    if (recheck) checked = c->recheck_session() && checked;
     logs = logs || c->wants_logs();
     if (c->due()) c->wake();
   }
+  if (recheck && checked) rechecked_closes_ = closes;  // else again in a second
   logs_wanted_ = logs;
   heartbeats();
 }

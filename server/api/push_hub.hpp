@@ -107,6 +107,7 @@ class PushHub : public PushFeed {
   std::uint64_t changes_seen_ = 0;
   std::map<std::string, std::optional<StoredFile>> files_;
   std::chrono::steady_clock::time_point last_recheck_{};
+  std::uint64_t rechecked_closes_ = 0;  // sessions_.closes() when the channels were last rechecked
 
   mutable std::mutex data_mutex_;              // latest_, logs_
   std::shared_ptr<const std::string> latest_;  // the printer's part of the newest `current`

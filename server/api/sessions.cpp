@@ -1,9 +1,27 @@
 #include "server/api/sessions.hpp"
 
 #include <algorithm>
+#include <chrono>
+#include <cstdint>
 #include <random>
 
+#include "server/store/sha256.hpp"
+#include "server/store/store.hpp"
+
 namespace salient::server {
+namespace {
+
+std::string digest_of(std::string_view secret) {
+  Sha256 h;
+  h.update(secret);
+  return h.hex();
+}
+
+double unix_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
 
 std::string random_token(std::size_t bytes) {
   static constexpr char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_";
@@ -29,17 +47,35 @@ std::string random_token(std::size_t bytes) {
 
 std::string Sessions::open(const std::string& user, long long key_id) {
   std::string session = random_token(24);
-  std::lock_guard lock(mutex_);
-  if (entries_.size() >= kMax) entries_.pop_front();
-  entries_.push_back({session, user, key_id});
+  Database& db = store_.db();
+  Database::Transaction t(db);
+  db.prepare("INSERT INTO sessions (session_digest, user_name, key_id, created_at) VALUES (?, ?, ?, ?)")
+      .bind(1, std::string_view(digest_of(session)))
+      .bind(2, std::string_view(user))
+      .bind(3, static_cast<std::int64_t>(key_id))
+      .bind(4, unix_now())
+      .run();
+  auto count = db.prepare("SELECT COUNT(*) FROM sessions");
+  count.step();
+  const std::int64_t over = count.integer(0) - static_cast<std::int64_t>(kMax);
+  count.run();
+  if (over > 0)
+    db.prepare(
+          "DELETE FROM sessions WHERE session_digest IN "
+          "(SELECT session_digest FROM sessions ORDER BY created_at, session_digest LIMIT ?)")
+        .bind(1, over)
+        .run();
+  t.commit();
   return session;
 }
 
 std::optional<std::string> Sessions::user_of(std::string_view session) const {
-  std::lock_guard lock(mutex_);
-  for (const Entry& e : entries_)
-    if (e.session == session) return e.user;
-  return std::nullopt;
+  auto q = store_.db().prepare("SELECT user_name FROM sessions WHERE session_digest = ?");
+  q.bind(1, std::string_view(digest_of(session)));
+  if (!q.step()) return std::nullopt;
+  std::string user = q.text(0);
+  q.run();
+  return user;
 }
 
 std::optional<std::string> Sessions::user_of_auth(std::string_view auth) const {
@@ -51,13 +87,16 @@ std::optional<std::string> Sessions::user_of_auth(std::string_view auth) const {
 }
 
 void Sessions::close_user(const std::string& user) {
-  std::lock_guard lock(mutex_);
-  std::erase_if(entries_, [&](const Entry& e) { return e.user == user; });
+  store_.db().prepare("DELETE FROM sessions WHERE user_name = ?").bind(1, std::string_view(user)).run();
+  ++closes_;
 }
 
 void Sessions::close_key(long long key_id) {
-  std::lock_guard lock(mutex_);
-  std::erase_if(entries_, [&](const Entry& e) { return e.key_id == key_id; });
+  store_.db()
+      .prepare("DELETE FROM sessions WHERE key_id = ?")
+      .bind(1, static_cast<std::int64_t>(key_id))
+      .run();
+  ++closes_;
 }
 
 }  // namespace salient::server

@@ -164,6 +164,31 @@ CREATE TABLE event_payloads (
 );
 CREATE INDEX event_payloads_by_age ON event_payloads (created_at);
 )sql",
+    // 10: what OctoPrint keeps in memory, here shared by a farm's nodes so that an app pairs, and a
+    // push socket authenticates, through any of them: login sessions and app-key requests. Their
+    // secrets (a session, an app's polling token) are kept as SHA-256 digests, as keys are; the
+    // user token is what an admin is shown to decide by.
+    R"sql(
+CREATE TABLE sessions (
+  session_digest TEXT PRIMARY KEY,
+  user_name TEXT NOT NULL,
+  key_id {INT} NOT NULL DEFAULT 0,
+  created_at {REAL} NOT NULL
+);
+CREATE INDEX sessions_by_age ON sessions (created_at);
+CREATE TABLE app_key_requests (
+  app_token_digest TEXT PRIMARY KEY,
+  user_token TEXT NOT NULL UNIQUE,
+  app TEXT NOT NULL,
+  user_name TEXT NOT NULL,
+  remote TEXT NOT NULL,
+  created_at {REAL} NOT NULL,
+  polled_at {REAL} NOT NULL,
+  decided {INT} NOT NULL DEFAULT 0,
+  key_user TEXT,
+  key_role TEXT
+);
+)sql",
 };
 
 // Token, SQLite's words, PostgreSQL's words. SQLite's are the text the entries had before there

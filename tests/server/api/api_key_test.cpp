@@ -173,7 +173,8 @@ TEST_CASE("a hex key of a data directory from before users (schema 3) is the adm
         "DROP INDEX jobs_by_node; ALTER TABLE jobs DROP COLUMN node; "
         "ALTER TABLE jobs DROP COLUMN lease_until; ALTER TABLE jobs DROP COLUMN cancel_requested; "
         "ALTER TABLE jobs DROP COLUMN requeues; "
-        "DROP TABLE event_payloads; DROP TABLE nodes; DROP TABLE farm_printers; DROP TABLE printer_requests; "
+        "DROP TABLE event_payloads; DROP TABLE sessions; DROP TABLE app_key_requests; DROP TABLE nodes; DROP "
+        "TABLE farm_printers; DROP TABLE printer_requests; "
         "PRAGMA user_version = 3;");
     old.prepare("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', 1)")
         .bind(1, std::string_view(sha256_hex(hex)))
@@ -199,7 +200,7 @@ TEST_CASE("a key made or revoked through another node is seen here within a seco
   Store store(dir.path);
   const ApiKey first = ensure_api_key(store);
   ApiKeys a(store);
-  Sessions sessions;  // node B's, outliving its keys' refresher
+  Sessions sessions(store);  // node B's, outliving its keys' refresher
   ApiKeys b(store);
   b.on_revoked([&sessions](long long id) { sessions.close_key(id); });
   b.start_refresh(std::chrono::milliseconds(100), {});
@@ -230,4 +231,30 @@ TEST_CASE("a key made or revoked through another node is seen here within a seco
   CHECK(within_a_second([&] { return !b.principal(boss.key); }));
   CHECK(b.valid_key(first.key));
   b.stop_refresh();
+}
+
+// Issue 32: sessions lived in the memory of the node that logged the client in, so a push socket
+// opened on another node of a farm was told to log in again, forever. Two Sessions on one
+// database are two nodes.
+TEST_CASE("a session opened on one node authenticates on another, and a revoke there ends it") {
+  salient::test::ScratchDir dir("sessions-nodes");
+  Store a_store(dir.path), b_store(dir.path);
+  Sessions a(a_store), b(b_store);
+  const std::string phone = a.open("otto", 7), laptop = a.open("otto", 8), vic = b.open("vic", 9);
+  CHECK(b.user_of_auth("otto:" + phone) == std::optional<std::string>("otto"));
+  CHECK_FALSE(b.user_of_auth("vic:" + phone));  // the name must be the session's
+  CHECK(a.user_of(vic) == std::optional<std::string>("vic"));
+  const std::uint64_t closes = b.closes();
+  b.close_key(7);
+  CHECK(b.closes() == closes + 1);  // what the push hub watches before asking the database again
+  CHECK_FALSE(a.user_of(phone));
+  CHECK(a.user_of(laptop) == std::optional<std::string>("otto"));
+  a.close_user("otto");
+  CHECK_FALSE(b.user_of(laptop));
+  CHECK(b.user_of(vic) == std::optional<std::string>("vic"));
+  // Only digests are kept: a copy of the database opens no push socket.
+  auto q = a_store.db().prepare("SELECT session_digest FROM sessions");
+  REQUIRE(q.step());
+  CHECK(q.text(0) != vic);
+  CHECK(q.text(0).size() == 64);
 }

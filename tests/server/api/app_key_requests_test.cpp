@@ -7,12 +7,27 @@
 #include <regex>
 
 #include "server/common/domain_error.hpp"
+#include "server/store/store.hpp"
+#include "tests/support/scratch_dir.hpp"
 
 using namespace salient::server;
 using Poll = AppKeyRequests::Poll;
 
-TEST_CASE("a request is pending, then approved once, and a denied one is gone") {
+namespace {
+
+// The requests of a daemon with a database of its own.
+struct Node {
+  explicit Node(const std::string& name) : dir("appkeys-" + name), store(dir.path), requests(store) {}
+  salient::test::ScratchDir dir;
+  Store store;
   AppKeyRequests requests;
+};
+
+}  // namespace
+
+TEST_CASE("a request is pending, then approved once, and a denied one is gone") {
+  Node requests_node("t2");
+  AppKeyRequests& requests = requests_node.requests;
   const AppKeyRequest cura = requests.open("Cura", "", "10.0.0.2", 0);
   CHECK(std::regex_match(cura.app_token, std::regex("^[A-Za-z0-9_-]{43}$")));
   CHECK(cura.user_token != cura.app_token);
@@ -35,7 +50,8 @@ TEST_CASE("a request is pending, then approved once, and a denied one is gone") 
 }
 
 TEST_CASE("requests expire: after 10 minutes, or 20 s without a poll") {
-  AppKeyRequests requests;
+  Node requests_node("t3");
+  AppKeyRequests& requests = requests_node.requests;
   const AppKeyRequest a = requests.open("a", "", "h1", 0);
   const AppKeyRequest b = requests.open("b", "", "h2", 0);
   for (double t = 10; t < 700; t += 10) requests.poll(a.app_token, t);  // a keeps polling, b does not
@@ -48,7 +64,8 @@ TEST_CASE("requests expire: after 10 minutes, or 20 s without a poll") {
 }
 
 TEST_CASE("bounded: 3 a minute and 10 an hour per address, 2 waiting per address") {
-  AppKeyRequests requests;
+  Node requests_node("t4");
+  AppKeyRequests& requests = requests_node.requests;
   const AppKeyRequest first = requests.open("x", "", "attacker", 0);
   requests.open("x", "", "attacker", 1);
   CHECK_THROWS_AS(requests.open("x", "", "attacker", 2), TooBusy);  // 2 waiting
@@ -63,7 +80,8 @@ TEST_CASE("bounded: 3 a minute and 10 an hour per address, 2 waiting per address
 // The flood of issue 32: 7 addresses asking as fast as allowed, polling to keep their requests,
 // left every other app 429 for 10 minutes. Now they hold 2 each at most and their network 8.
 TEST_CASE("a flood from a few addresses leaves room for other apps") {
-  AppKeyRequests requests;
+  Node requests_node("t5");
+  AppKeyRequests& requests = requests_node.requests;
   std::vector<AppKeyRequest> flood;
   for (double t = 0; t < 600; t += 10) {
     for (int a = 1; a <= 7; ++a) {
@@ -95,17 +113,20 @@ TEST_CASE("a flood from a few addresses leaves room for other apps") {
     CHECK(std::string(e.what()).find("network") != std::string::npos);
   }
   // IPv6: a /64 is one network; IPv4 mapped into IPv6 is the IPv4 address's.
-  AppKeyRequests six;
+  Node six_node("t6");
+  AppKeyRequests& six = six_node.requests;
   for (int i = 0; i < 8; ++i) six.open("x", "", "2001:db8:1:2::" + std::to_string(i + 1), 0);
   CHECK_THROWS_AS(six.open("x", "", "2001:db8:1:2:ffff::1", 0), TooBusy);
   six.open("x", "", "2001:db8:1:3::1", 0);
-  AppKeyRequests mapped;
+  Node mapped_node("t7");
+  AppKeyRequests& mapped = mapped_node.requests;
   for (int i = 0; i < 8; ++i) mapped.open("x", "", "::ffff:10.9.9." + std::to_string(i + 1), 0);
   CHECK_THROWS_AS(mapped.open("x", "", "10.9.9.200", 0), TooBusy);
 }
 
 TEST_CASE("bounded: 64 waiting in all") {
-  AppKeyRequests requests;
+  Node requests_node("t8");
+  AppKeyRequests& requests = requests_node.requests;
   for (std::size_t i = 0; i < AppKeyRequests::kMaxPending; ++i)
     requests.open("x", "", "10." + std::to_string(i) + ".0.1", 0);
   try {
@@ -115,4 +136,34 @@ TEST_CASE("bounded: 64 waiting in all") {
     CHECK(e.retry_after().value_or(0) > 0);
   }
   CHECK(requests.pending(1).size() == AppKeyRequests::kMaxPending);
+}
+
+// Issue 32: requests lived in each node's memory, so an app that asked through one node of a farm
+// and polled through another (a load balancer) was never paired. Two AppKeyRequests on one
+// database are two nodes.
+TEST_CASE("an app asks through one node, an admin decides on another, the app's key comes once") {
+  Node a("farm");
+  Store b_store(a.dir.path);
+  AppKeyRequests b(b_store);
+  const AppKeyRequest cura = a.requests.open("Cura", "otto", "10.0.0.2", 100);
+  CHECK(b.poll(cura.app_token, 101).state == Poll::pending);
+  const auto listed = b.pending(102);
+  REQUIRE(listed.size() == 1);
+  CHECK(listed[0].app == "Cura");
+  CHECK(listed[0].user == "otto");
+  CHECK(listed[0].remote == "10.0.0.2");
+  CHECK(listed[0].app_token.empty());  // never read back: the database keeps its digest
+  CHECK(b.decide(listed[0].user_token, true, "otto", Role::operator_, 103));
+  const auto approved = a.requests.poll(cura.app_token, 104);
+  CHECK(approved.state == Poll::approved);
+  CHECK(approved.request.key_user == "otto");
+  CHECK(approved.request.key_role == Role::operator_);
+  CHECK(b.poll(cura.app_token, 105).state == Poll::unknown);  // handed out once, on either node
+  // The waiting bound holds across nodes: an address's third request is refused on the other.
+  a.requests.open("x", "", "10.7.0.1", 200);
+  b.open("x", "", "10.7.0.1", 201);
+  CHECK_THROWS_AS(a.requests.open("x", "", "10.7.0.1", 202), TooBusy);
+  // What is kept is no secret: the app's token is not in the database, only its digest.
+  auto q = a.store.db().prepare("SELECT app_token_digest FROM app_key_requests");
+  while (q.step()) CHECK(q.text(0).size() == 64);
 }

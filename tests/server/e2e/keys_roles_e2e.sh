@@ -176,7 +176,7 @@ db.executescript("DROP INDEX api_keys_by_user; ALTER TABLE api_keys DROP COLUMN 
                  "ALTER TABLE prints DROP COLUMN filament_mm; ALTER TABLE prints DROP COLUMN paused_seconds;"
                  "DROP INDEX jobs_by_node; ALTER TABLE jobs DROP COLUMN node; ALTER TABLE jobs DROP COLUMN lease_until;"
                  "ALTER TABLE jobs DROP COLUMN cancel_requested; ALTER TABLE jobs DROP COLUMN requeues;"
-                 "DROP TABLE event_payloads; DROP TABLE nodes; DROP TABLE farm_printers; DROP TABLE printer_requests;"
+                 "DROP TABLE event_payloads; DROP TABLE sessions; DROP TABLE app_key_requests; DROP TABLE nodes; DROP TABLE farm_printers; DROP TABLE printer_requests;"
                  "DELETE FROM api_keys; PRAGMA user_version = 3;")
 db.execute("INSERT INTO api_keys (key_digest, label, created_at) VALUES (?, 'first start', 1)",
            (hashlib.sha256(sys.argv[2].encode()).hexdigest(),))
