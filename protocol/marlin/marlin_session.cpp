@@ -450,6 +450,7 @@ void MarlinSession::handle(const MarlinReply& r, Millis now) {
 }
 
 void MarlinSession::on_receive(std::string_view bytes, Millis now) {
+  last_heard_ += host_gap_.looked(now);
   if (!bytes.empty()) last_heard_ = std::max(last_heard_, now);
   partial_.append(bytes);
   std::size_t start = 0;
@@ -462,6 +463,7 @@ void MarlinSession::on_receive(std::string_view bytes, Millis now) {
 }
 
 void MarlinSession::on_tick(Millis now) {
+  last_heard_ += host_gap_.looked(now);  // silence counts only while the host was there to hear
   if (state_ == SessionState::idle) return listen_tick(now);
   if (state_ == SessionState::failed) return;
   if (resend_oks_due_ > 0 && now >= resend_ok_deadline_) {  // this firmware sends no ok after Resend

@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "protocol/gcode/program.hpp"
+#include "protocol/link/host_gap.hpp"
 #include "protocol/marlin/marlin_reply.hpp"
 
 namespace salient::protocol::marlin {
@@ -184,6 +185,7 @@ class MarlinSession {
   bool have_rtt_ = false;
   double srtt_ms_ = 0, rttvar_ms_ = 0;
   Millis poke_wait_{0}, last_heard_{0};
+  HostGap host_gap_;
   bool halted_ = false;
   Millis next_m108_{Millis::max()};  // a cancel during a heating wait: when M108 goes again
   std::optional<Millis> last_poll_;  // between prints: when M105 last went

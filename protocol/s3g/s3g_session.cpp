@@ -244,6 +244,7 @@ std::optional<S3gSession::Packet> S3gSession::next_packet(Millis now) {
 }
 
 void S3gSession::on_receive(std::string_view bytes, Millis now) {
+  last_heard_ += host_gap_.looked(now);
   if (bytes.empty()) return;
   heard(now);
   lost_ = false;
@@ -271,6 +272,7 @@ void S3gSession::on_receive(std::string_view bytes, Millis now) {
 }
 
 void S3gSession::on_tick(Millis now) {
+  last_heard_ += host_gap_.looked(now);  // silence counts only while the host was there to hear
   if (in_flight_ && now >= reply_deadline_) {
     in_flight_ = false;
     ++timeouts_;

@@ -28,6 +28,7 @@
 #include <string_view>
 #include <vector>
 
+#include "protocol/link/host_gap.hpp"
 #include "protocol/s3g/packet.hpp"
 #include "protocol/s3g/x3g_program.hpp"
 
@@ -234,6 +235,7 @@ class S3gSession {
   bool quiet_ = false;  // discarding the line's bytes until quiet_until_
   Millis quiet_until_{0};
   Millis last_heard_{0};
+  HostGap host_gap_;
   Millis next_stats_{0}, next_temps_{0};
   int temp_step_ = 4;  // 0…3: the temperature queries of a round; 4: none due
   Temperatures temps_;

@@ -50,6 +50,7 @@ void Printer::start() {
   std::lock_guard lock(mutex_);
   if (config_.autoconnect) queue_.push(ConnectCommand{});
   thread_ = std::thread([this] { run(); });
+  saver_.start();
 }
 
 void Printer::stop() {
@@ -62,6 +63,7 @@ void Printer::stop() {
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
+  saver_.stop();  // after the thread, which asks it for writes
 }
 
 void Printer::notify(bool progress) const {

@@ -40,6 +40,7 @@
 #include "server/config/daemon_config.hpp"
 #include "server/printers/command_queue.hpp"
 #include "server/printers/printer_status.hpp"
+#include "server/printers/progress_saver.hpp"
 #include "server/store/print_store.hpp"
 #include "server/store/store.hpp"
 
@@ -104,7 +105,6 @@ class Printer {
  private:
   struct Throttle {
     std::chrono::steady_clock::time_point last_notify{}, last_save = std::chrono::steady_clock::now();
-    std::chrono::steady_clock::time_point saves_paused_until{};  // after a full disk
   };
   // Replug (printer_replug.cpp): a serial printer whose link went away by itself (unplugged, the
   // board reset, the device not there at start) is connected again when its device path is back.
@@ -145,6 +145,7 @@ class Printer {
 
   mutable std::mutex mutex_;
   std::mutex save_mutex_;  // one save_progress() at a time; taken before mutex_
+  ProgressSaver saver_{[this] { return save_progress(); }};  // the print's progress, off the thread
   std::condition_variable wake_;
   std::thread thread_;
   bool stopping_ = false;

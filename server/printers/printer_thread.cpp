@@ -209,9 +209,8 @@ void Printer::handle_event(const LinkEvent& e, Throttle& throttle) {
     throttle.last_notify = Clock::now();
     notify(true);
   }
-  // A full disk must not stop the print: progress writes pause, and are tried again later.
-  if (save && Clock::now() >= throttle.saves_paused_until && !save_progress())
-    throttle.saves_paused_until = Clock::now() + std::chrono::seconds(5);
+  // Written on the saver's thread: neither a full disk nor a frozen database holds up the print.
+  if (save) saver_.request();
 }
 
 PrintState Printer::print_outcome(const PrintResult& result, bool interrupted, bool cancelled) const {

@@ -476,6 +476,32 @@ TEST_CASE("a corrupted M110 N0 is sent again, whatever line the firmware then as
   }
 }
 
+// Issue 32: a node paused for 15 s (SIGSTOP, a suspended VM) sent no poll meanwhile, and on
+// waking called its idle printer dead. Only time the host was there to hear counts as silence.
+TEST_CASE(
+    "a host away longer than the silence limit does not call its printer gone, but silence while it looks "
+    "does") {
+  SessionConfig config;
+  config.idle_poll = milliseconds(2000);
+  config.idle_silence_limit = milliseconds(15000);
+  MarlinSession s(config);
+  s.on_tick(milliseconds(0));
+  s.on_receive("ok T:20.5 /0.0 B:21.0 /0.0\n", milliseconds(50));
+  s.on_tick(milliseconds(100));
+  s.on_tick(milliseconds(20100));  // the host was stopped for 20 s: no poll went, nothing read
+  for (const auto& e : s.take_events()) CHECK(e.kind != SessionEvent::Kind::timeout);
+  CHECK(s.take_output().find("M105") != std::string::npos);  // it asks again at once
+  // Now looking every 100 ms and hearing nothing: gone 15 s after the last byte, less the 20 s away.
+  int lost_at = 0;
+  for (int t = 20200; t <= 40000 && !lost_at; t += 100) {
+    s.on_tick(milliseconds(t));
+    for (const auto& e : s.take_events())
+      if (e.kind == SessionEvent::Kind::timeout) lost_at = t;
+  }
+  CHECK(lost_at > 35000);
+  CHECK(lost_at <= 35200);
+}
+
 TEST_CASE("between prints a session listens: polls, temperatures, errors, a restart, and silence once") {
   SessionConfig config;
   config.idle_poll = milliseconds(2000);
@@ -495,14 +521,16 @@ TEST_CASE("between prints a session listens: polls, temperatures, errors, a rest
   CHECK(events[2].kind == SessionEvent::Kind::reset);
   s.on_tick(milliseconds(2000));
   CHECK(s.take_output() == "M105\n");
-  s.on_tick(milliseconds(16000));  // 14.5 s since the last byte: still there
+  for (int t = 2100; t <= 16000; t += 100) s.on_tick(milliseconds(t));  // the drivers tick often
+  s.take_output();                                                      // the polls
+  // 14.5 s since the last byte: still there
   for (const auto& e : s.take_events()) CHECK(e.kind != SessionEvent::Kind::timeout);
   s.on_tick(milliseconds(16600));
   const auto lost = s.take_events();
   REQUIRE(lost.size() == 1);
   CHECK(lost[0].kind == SessionEvent::Kind::timeout);
   CHECK(lost[0].text == "the printer stopped answering (nothing heard for 15 s between prints)");
-  s.on_tick(milliseconds(30000));
+  for (int t = 16700; t <= 30000; t += 100) s.on_tick(milliseconds(t));
   CHECK(s.take_events().empty());  // said once
   CHECK(s.state() == SessionState::idle);
 

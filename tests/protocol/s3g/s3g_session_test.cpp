@@ -788,3 +788,28 @@ TEST_CASE(
     }
   }
 }
+
+// Issue 32: a host stopped for longer than the silence limit (SIGSTOP, a suspended VM) polled
+// nothing meanwhile; on waking it must not call its idle board gone.
+TEST_CASE("listening: a host away longer than the silence limit does not call its board gone") {
+  SessionConfig c;
+  c.idle_poll = Millis(1000), c.idle_silence_limit = Millis(4000);
+  S3gSession s(c);
+  Board b;
+  Wire w{s, b};
+  s.on_tick(Millis(0));
+  w.until([] { return false; }, Millis(3000));
+  std::vector<SessionEvent> ev;
+  events_of(ev, s);
+  w.t += Millis(20000);  // the host was stopped; it ticks before it reads what came meanwhile
+  s.on_tick(w.t);
+  events_of(ev, s);
+  CHECK_FALSE(has_event(ev, SessionEvent::Kind::timeout));
+  w.until([] { return false; }, Millis(3000));
+  events_of(ev, s);
+  CHECK_FALSE(has_event(ev, SessionEvent::Kind::timeout));
+  b.silent = true;  // and a board that stops answering is still found out
+  w.until([] { return false; }, Millis(6000));
+  events_of(ev, s);
+  CHECK(has_event(ev, SessionEvent::Kind::timeout));
+}

@@ -181,6 +181,35 @@ TEST_CASE("pause holds the stream, resume goes on, cancel stops and cools down")
   CHECK(fan - log.begin() >= held);
 }
 
+// Issue 32: the printer's thread wrote the progress itself, so a database that held writes (a
+// PostgreSQL frozen for 21 s) stopped the print as long. Another connection holding SQLite's
+// write lock is such a database: the print must go on meanwhile, and its row catch up after.
+TEST_CASE("a database that holds every write does not hold up the print") {
+  Fixture f("printer-db-held");
+  Printer p(f.sim("--advanced-ok --time-scale 0.05 --heat-time-scale 0"), f.store, f.hooks());
+  p.start();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  p.print(f.file(make_gcode(20000)));
+  REQUIRE(eventually([&] { return status(p)["print"].is_object() && status(p)["print"]["confirmed"] > 50; }));
+  const long long print_id = status(p)["print"]["id"];
+  const long long before = status(p)["print"]["confirmed"];
+  long long during = 0;
+  {
+    Database locker(f.dir.path / "data" / "salient.db");
+    locker.exec("BEGIN EXCLUSIVE");  // every write waits (and gives up after SQLite's busy timeout)
+    std::this_thread::sleep_for(2s);
+    during = status(p)["print"]["confirmed"];
+    locker.exec("COMMIT");
+  }
+  CHECK(p.state() == PrinterState::printing);
+  INFO("confirmed " << before << " before, " << during << " after 2 s");
+  CHECK(during - before > 100);  // lines kept being confirmed (477 in Release; 1 when the thread wrote)
+  REQUIRE(eventually([&] { return PrintStore(f.store.db()).get(print_id)->confirmed >= during; }, 10s));
+  p.cancel();
+  REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
+  p.stop();
+}
+
 std::vector<PrinterState> states_of(const std::vector<PrinterStatus>& changes) {
   std::vector<PrinterState> out;
   for (const PrinterStatus& s : changes) out.push_back(s.state);
