@@ -28,11 +28,13 @@ CMAKE_FLAGS ?=
 # sanitized); plan/slice --segment on two models (cut and timed the same way by core_segment_tests);
 # the planner's properties on four groups of shared models (~4.5 min; the same planner runs
 # sanitized on the bunny and the STL/PLY edge cases); three farm e2e runs (~9 min: three nodes
-# through a SIGKILL, printers across nodes, the farm-wide queue), whose claims, leases, relayed
+# through a SIGKILL, printers across nodes, the farm-wide queue) and the farm through PostgreSQL's
+# freeze, stop and restart (its freeze is timed; the printer's saver and the sessions' host gap
+# run sanitized in server_printers_tests and the protocol tests), whose claims, leases, relayed
 # events, forwarded printer requests and farm queue run sanitized in server_jobs_pg_tests,
 # server_events_pg_tests, server_store_pg_tests, farm_queue_test and the two-slicer-node,
 # events-across-nodes and farm-clocks e2e runs.
-SANITIZE_SKIP ?= core_saliency_tests:(a 500-face and a 270k-face mesh both work|saliency is invariant to rigid motion|saliency values are in|a map does not follow the tessellation)|peer: export-x3g is byte for byte gpx -m r2x, inside the travel|cli: exact --objective time never takes longer than --objective layers on|core_orient_tests:--up auto stands the Stanford bunny|cli: plan --segment and slice --segment time the same plan alike|e2e: a farm of three nodes on PostgreSQL|e2e: printers across nodes|e2e: farm-wide queue|core_slicing_tests:planner properties: (igea|fandisk|spot|alligator)
+SANITIZE_SKIP ?= core_saliency_tests:(a 500-face and a 270k-face mesh both work|saliency is invariant to rigid motion|saliency values are in|a map does not follow the tessellation)|peer: export-x3g is byte for byte gpx -m r2x, inside the travel|cli: exact --objective time never takes longer than --objective layers on|core_orient_tests:--up auto stands the Stanford bunny|cli: plan --segment and slice --segment time the same plan alike|e2e: a farm of three nodes on PostgreSQL|hostile clients: a farm through PostgreSQL|e2e: printers across nodes|e2e: farm-wide queue|core_slicing_tests:planner properties: (igea|fandisk|spot|alligator)
 
 .PHONY: deps build run test test-sanitize fuzz bench deb format format-check clean
 
