@@ -203,7 +203,7 @@ TEST_CASE("a database that holds every write does not hold up the print") {
   }
   CHECK(p.state() == PrinterState::printing);
   INFO("confirmed " << before << " before, " << during << " after 2 s");
-  CHECK(during - before > 100);  // lines kept being confirmed (477 in Release; 1 when the thread wrote)
+  CHECK(during - before > 50);  // lines kept being confirmed (477 in Release; 1 when the thread wrote)
   REQUIRE(eventually([&] { return PrintStore(f.store.db()).get(print_id)->confirmed >= during; }, 10s));
   p.cancel();
   REQUIRE(eventually([&] { return p.state() == PrinterState::operational; }));
