@@ -19,12 +19,6 @@ constexpr std::size_t kMaxAsked = 1024;
 constexpr const char* kColumns =
     "user_token, app, user_name, remote, created_at, polled_at, decided, key_user, key_role";
 
-std::string digest_of(std::string_view token) {
-  Sha256 h;
-  h.update(token);
-  return h.hex();
-}
-
 AppKeyRequest request_of(const Database::Statement& q) {
   AppKeyRequest r;
   r.user_token = q.text(0);
@@ -52,7 +46,7 @@ std::optional<AppKeyRequest> undecided(Database& db, const std::string& token) {
   auto q =
       db.prepare(std::string("SELECT ") + kColumns +
                  " FROM app_key_requests WHERE decided = 0 AND (user_token = ? OR app_token_digest = ?)");
-  q.bind(1, std::string_view(token)).bind(2, std::string_view(digest_of(token)));
+  q.bind(1, std::string_view(token)).bind(2, std::string_view(sha256_hex(token)));
   if (!q.step()) return std::nullopt;
   AppKeyRequest r = request_of(q);
   q.run();
@@ -115,7 +109,7 @@ AppKeyRequest AppKeyRequests::open(const std::string& app, const std::string& us
   db.prepare(
         "INSERT INTO app_key_requests (app_token_digest, user_token, app, user_name, remote, created_at, "
         "polled_at) VALUES (?, ?, ?, ?, ?, ?, ?)")
-      .bind(1, std::string_view(digest_of(r.app_token)))
+      .bind(1, std::string_view(sha256_hex(r.app_token)))
       .bind(2, std::string_view(r.user_token))
       .bind(3, std::string_view(app))
       .bind(4, std::string_view(user))
@@ -133,7 +127,7 @@ AppKeyRequests::PollResult AppKeyRequests::poll(const std::string& app_token, do
   Database& db = store_.db();
   Database::Transaction t(db);  // two nodes polling one approval: one gets the key
   expire(db, now);
-  const std::string digest = digest_of(app_token);
+  const std::string digest = sha256_hex(app_token);
   auto q =
       db.prepare(std::string("SELECT ") + kColumns + " FROM app_key_requests WHERE app_token_digest = ?");
   q.bind(1, std::string_view(digest));

@@ -11,12 +11,6 @@
 namespace salient::server {
 namespace {
 
-std::string digest_of(std::string_view secret) {
-  Sha256 h;
-  h.update(secret);
-  return h.hex();
-}
-
 double unix_now() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
 }
@@ -50,7 +44,7 @@ std::string Sessions::open(const std::string& user, long long key_id) {
   Database& db = store_.db();
   Database::Transaction t(db);
   db.prepare("INSERT INTO sessions (session_digest, user_name, key_id, created_at) VALUES (?, ?, ?, ?)")
-      .bind(1, std::string_view(digest_of(session)))
+      .bind(1, std::string_view(sha256_hex(session)))
       .bind(2, std::string_view(user))
       .bind(3, static_cast<std::int64_t>(key_id))
       .bind(4, unix_now())
@@ -71,7 +65,7 @@ std::string Sessions::open(const std::string& user, long long key_id) {
 
 std::optional<std::string> Sessions::user_of(std::string_view session) const {
   auto q = store_.db().prepare("SELECT user_name FROM sessions WHERE session_digest = ?");
-  q.bind(1, std::string_view(digest_of(session)));
+  q.bind(1, std::string_view(sha256_hex(session)));
   if (!q.step()) return std::nullopt;
   std::string user = q.text(0);
   q.run();
